@@ -1,0 +1,224 @@
+// ddsimp — data-dependent surface simplification (Frank & Lang, HLRS).
+//
+// The whole public interface of libddsimp. A surface is an indexed triangle list with named
+// per-vertex float fields; `simplify` reduces it with the weight
+//     w(v) = alpha * curv(v) + (1 - alpha) * grad(v)
+// by edge collapse or vertex removal, keeping the topology of the input. No networking, no VTK.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace ddsimp {
+
+// Bumped whenever a change can alter the output bytes for the same input and options
+// (the server keys its result cache on it).
+inline constexpr int algorithm_version = 1;
+
+// ---------------------------------------------------------------------------------------------
+// Surface
+// ---------------------------------------------------------------------------------------------
+
+// One named per-vertex field: `components` floats per vertex, vertex-major
+// (values[v * components + c]). A scalar has 1 component, a velocity 3.
+struct Field {
+    std::string name;
+    int components = 1;
+    std::vector<float> values;
+};
+
+// An indexed triangle surface: 3 floats per vertex, 3 vertex indices per triangle, and any number
+// of fields, each with one tuple per vertex.
+struct Surface {
+    std::vector<float> positions;
+    std::vector<uint32_t> triangles;
+    std::vector<Field> fields;
+
+    size_t vertex_count() const { return positions.size() / 3; }
+    size_t triangle_count() const { return triangles.size() / 3; }
+    // The field called `name`, or nullptr.
+    const Field* find_field(std::string_view name) const;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Input checks
+// ---------------------------------------------------------------------------------------------
+
+// Thrown for input that cannot be repaired; what() says what is wrong and where
+// (e.g. "triangle 12 refers to vertex 4711, but the surface has 434 vertices").
+class InputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// What `validate` repaired.
+struct RepairReport {
+    size_t degenerate_triangles_dropped = 0; // a triangle that names one vertex twice
+    size_t duplicate_triangles_dropped = 0;  // same three vertices as an earlier triangle
+    size_t unused_vertices = 0;              // referenced by no triangle (not in any output)
+};
+
+// Checks a surface and repairs what has one obvious repair, in place:
+// - rejected (InputError): no triangles; positions not a multiple of 3 or triangles not a multiple
+//   of 3; a non-finite coordinate; an index out of range; a field with components < 1, an empty
+//   or repeated name, the wrong number of values, or a non-finite value.
+// - repaired: degenerate and duplicate triangles are dropped (the first copy is kept, in order).
+RepairReport validate(Surface& surface);
+
+// ---------------------------------------------------------------------------------------------
+// Topology
+// ---------------------------------------------------------------------------------------------
+
+// Counts that simplification must preserve (see `simplify`).
+struct Topology {
+    size_t vertices = 0; // referenced by at least one triangle
+    size_t triangles = 0;
+    size_t edges = 0;
+    size_t boundary_edges = 0;     // edges with one triangle
+    size_t nonmanifold_edges = 0;  // edges with three or more triangles
+    size_t nonmanifold_vertices = 0; // vertices whose star is not one disk or half-disk
+    size_t boundary_loops = 0;     // closed loops of boundary edges
+    size_t components = 0;         // edge-connected components of triangles
+    long long euler_characteristic = 0; // V - E + F
+};
+
+// Topology of a surface whose indices are in range (call `validate` first for foreign input).
+Topology analyze_topology(const Surface& surface);
+
+// ---------------------------------------------------------------------------------------------
+// Weights
+// ---------------------------------------------------------------------------------------------
+
+// Unit-free curvature of every vertex: the absolute angle deficit |2pi - sum(theta)|, or
+// |pi - sum(theta)| at a boundary vertex, divided by pi. Unreferenced vertices get 0.
+std::vector<float> vertex_curvature(const Surface& surface);
+
+// Unit-free data gradient of every vertex: max over neighbours v_i of
+// ||f_i - f||_1 / ||x_i - x||_1, where each field's components are divided by that field's range
+// (the largest max - min of its components over the surface) and lengths by the bounding-box
+// diagonal. `fields` names the fields that count; empty means all. Throws InputError for an
+// unknown field name.
+std::vector<float> vertex_gradient(const Surface& surface, const std::vector<std::string>& fields);
+
+// ---------------------------------------------------------------------------------------------
+// Simplification
+// ---------------------------------------------------------------------------------------------
+
+enum class Strategy {
+    EdgeCollapse,  // collapse the lightest edge into one new point
+    VertexRemoval, // remove the lightest vertex and re-triangulate its star; data stays exact
+};
+
+enum class Placement {
+    Midpoint,         // the middle of the edge
+    VolumePreserving, // the point nearest the midpoint that keeps the enclosed volume (Gueziec)
+};
+
+enum class StopReason {
+    TargetReached,    // the triangle target was met
+    WeightBound,      // the lightest remaining element weighs more than Options::max_weight
+    NothingRemovable, // every remaining element would change topology, flip or fold a triangle
+    Cancelled,        // the progress callback asked to stop
+};
+
+struct Options {
+    // w = alpha * curvature + (1 - alpha) * gradient, both terms normalised to a mean of 1 over
+    // the input surface (a term that is 0 everywhere stays 0); alpha in [0, 1].
+    double alpha = 0.5;
+    Strategy strategy = Strategy::EdgeCollapse;
+    Placement placement = Placement::Midpoint;
+
+    // Target: the first that is set wins: target_triangles, then keep_fraction.
+    size_t target_triangles = 0; // stop at or below this many triangles (0: not set)
+    double keep_fraction = 0.1;  // stop at or below this fraction of the input's triangles
+    // Also stop when the lightest element's weight exceeds this (the "error bound" target).
+    double max_weight = std::numeric_limits<double>::infinity();
+
+    // Fields that drive the gradient term; empty means all fields.
+    std::vector<std::string> gradient_fields;
+    // An edge whose dihedral angle exceeds this (degrees) is a feature edge; 180 disables features.
+    double feature_angle = 60.0;
+    // A boundary or feature vertex is removed only where its line continues within this angle
+    // (degrees) of straight.
+    double line_tolerance = 20.0;
+    // Largest allowed turn (degrees) of any remaining triangle's normal in one operation; larger
+    // turns are refused as folds.
+    double max_normal_turn = 60.0;
+
+    // Threads for the per-vertex set-up stages; the output does not depend on it.
+    int threads = 1;
+    // Called now and then with the fraction of the work done; return false to cancel.
+    std::function<bool(double)> progress;
+};
+
+// What a simplification did.
+struct Result {
+    Surface surface; // the reduced surface, every field carried, unused vertices dropped
+    size_t triangles_in = 0;
+    size_t triangles_out = 0;
+    size_t operations = 0;
+    StopReason stop = StopReason::TargetReached;
+    bool target_reached = false;
+    RepairReport repairs;
+};
+
+// A human-readable reason ("target reached", "nothing more removable without changing
+// topology", ...).
+const char* describe(StopReason reason);
+
+// Validates (and repairs, see `validate`) a copy of `input`, then simplifies it. Keeps the Euler
+// characteristic, boundary loops and components of the repaired input; never adds a non-manifold
+// edge. Deterministic: the same input and options give the same bytes. Throws InputError for
+// invalid input or options.
+Result simplify(const Surface& input, const Options& options);
+
+// The ordered operations of one run for (surface, options), from which every coarser level is
+// extracted without re-running: `level(n)` equals `simplify` with target_triangles = n exactly,
+// as long as that run would stop for its target and not earlier.
+class ProgressiveRecord {
+public:
+    // Runs until `options`'s target (usually set low, e.g. keep_fraction = 0) or until nothing
+    // more is removable.
+    static ProgressiveRecord build(const Surface& input, const Options& options);
+
+    // The surface after the first `operations` operations (0 = the repaired input).
+    Surface after(size_t operations) const;
+    // The surface at the first operation that leaves at most `triangles` triangles (or the
+    // coarsest recorded if none does).
+    Surface level(size_t triangles) const;
+    // Operations needed to get to at most `triangles` triangles (or all of them).
+    size_t operations_for(size_t triangles) const;
+
+    size_t operations() const { return triangles_after_.size(); }
+    size_t triangles_in() const { return triangles_in_; }
+    // Triangle count after operation i.
+    size_t triangles_after(size_t i) const { return triangles_after_[i]; }
+    StopReason stop() const { return stop_; }
+    const RepairReport& repairs() const { return repairs_; }
+
+private:
+    friend class Simplifier;
+    Strategy strategy_ = Strategy::EdgeCollapse;
+    Surface vertices_; // input vertices, then the points made by collapses (no triangles)
+    std::vector<uint32_t> base_triangles_;   // the repaired input's triangles
+    std::vector<uint32_t> triangles_after_;  // per operation
+    size_t triangles_in_ = 0;
+    StopReason stop_ = StopReason::NothingRemovable;
+    RepairReport repairs_;
+    // Edge collapse: operation i replaces vertices collapse_[2i] and collapse_[2i+1] by the new
+    // vertex input_vertices + i.
+    std::vector<uint32_t> collapse_;
+    size_t input_vertices_ = 0;
+    // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
+    // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
+    std::vector<uint32_t> write_begin_;
+    std::vector<uint32_t> writes_;
+};
+
+} // namespace ddsimp

@@ -1,0 +1,1 @@
+#include "ddsimp/ddsimp.h"
