@@ -1,1 +1,80 @@
-#include "ddsimp/ddsimp.h"
+// Replaying a prefix of the recorded operations: every level of one run, without re-running.
+#include "simplifier.h"
+
+#include <algorithm>
+
+namespace ddsimp {
+
+ProgressiveRecord ProgressiveRecord::build(const Surface& input, const Options& options) {
+    Surface surface = input;
+    const RepairReport repairs = validate(surface);
+    return Simplifier(surface, options, repairs).run();
+}
+
+size_t ProgressiveRecord::operations_for(size_t triangles) const {
+    if (triangles >= triangles_in_) return 0;
+    // triangles_after_ never grows, so the first operation at or below the count is a bound.
+    const auto at = std::find_if(triangles_after_.begin(), triangles_after_.end(),
+                                 [&](uint32_t t) { return t <= triangles; });
+    return at == triangles_after_.end() ? triangles_after_.size()
+                                        : size_t(at - triangles_after_.begin()) + 1;
+}
+
+Surface ProgressiveRecord::level(size_t triangles) const {
+    return after(operations_for(triangles));
+}
+
+Surface ProgressiveRecord::after(size_t operations) const {
+    operations = std::min(operations, this->operations());
+    std::vector<uint32_t> triangles = base_triangles_;
+    if (strategy_ == Strategy::EdgeCollapse) {
+        // Each collapse maps its two vertices to a vertex made later, so resolving the map from
+        // the newest vertex down settles every chain in one pass.
+        std::vector<uint32_t> map(input_vertices_ + operations);
+        for (uint32_t v = 0; v < map.size(); ++v) map[v] = v;
+        for (size_t i = 0; i < operations; ++i)
+            map[collapse_[2 * i]] = map[collapse_[2 * i + 1]] = uint32_t(input_vertices_ + i);
+        for (size_t v = map.size(); v-- > 0;)
+            if (map[v] != v) map[v] = map[map[v]];
+        size_t kept = 0;
+        for (size_t t = 0; t < triangles.size(); t += 3) {
+            const uint32_t a = map[triangles[t]], b = map[triangles[t + 1]],
+                           c = map[triangles[t + 2]];
+            if (a == b || b == c || a == c) continue; // a triangle a collapse removed
+            triangles[kept++] = a, triangles[kept++] = b, triangles[kept++] = c;
+        }
+        triangles.resize(kept);
+    } else {
+        for (size_t w = 0; w < write_begin_[operations]; w += 4)
+            std::copy(&writes_[w + 1], &writes_[w + 4], &triangles[3 * size_t(writes_[w])]);
+        triangles.erase(std::remove(triangles.begin(), triangles.end(), 0xffffffffu),
+                        triangles.end());
+    }
+
+    // Keep the referenced vertices, in the order of their ids.
+    const size_t nv = vertices_.vertex_count();
+    std::vector<uint32_t> index(nv, 0xffffffffu);
+    for (uint32_t v : triangles) index[v] = 0;
+    Surface out;
+    uint32_t count = 0;
+    for (size_t v = 0; v < nv; ++v)
+        if (index[v] == 0) index[v] = count++;
+    out.positions.resize(3 * size_t(count));
+    for (size_t v = 0; v < nv; ++v)
+        if (index[v] != 0xffffffffu)
+            std::copy_n(&vertices_.positions[3 * v], 3, &out.positions[3 * size_t(index[v])]);
+    for (const Field& f : vertices_.fields) {
+        Field g{f.name, f.components, {}};
+        const size_t nc = size_t(f.components);
+        g.values.resize(size_t(count) * nc);
+        for (size_t v = 0; v < nv; ++v)
+            if (index[v] != 0xffffffffu)
+                std::copy_n(&f.values[v * nc], nc, &g.values[size_t(index[v]) * nc]);
+        out.fields.push_back(std::move(g));
+    }
+    for (uint32_t& v : triangles) v = index[v];
+    out.triangles = std::move(triangles);
+    return out;
+}
+
+} // namespace ddsimp

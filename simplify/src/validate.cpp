@@ -1,1 +1,114 @@
+// Input checks: reject what has no obvious repair, drop degenerate and duplicate triangles.
 #include "ddsimp/ddsimp.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <set>
+#include <string>
+
+namespace ddsimp {
+namespace {
+
+[[noreturn]] void reject(const std::string& message) {
+    throw InputError(message);
+}
+
+void check_shape(const Surface& s) {
+    if (s.positions.size() % 3 != 0)
+        reject("positions hold " + std::to_string(s.positions.size()) +
+               " floats, not a multiple of 3");
+    if (s.triangles.size() % 3 != 0)
+        reject("triangles hold " + std::to_string(s.triangles.size()) +
+               " indices, not a multiple of 3");
+    if (s.triangles.empty()) reject("the surface has no triangles");
+}
+
+void check_positions(const Surface& s) {
+    for (size_t i = 0; i < s.positions.size(); ++i)
+        if (!std::isfinite(s.positions[i]))
+            reject("vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
+                   std::to_string(s.positions[i]) + ")");
+}
+
+void check_indices(const Surface& s) {
+    const size_t n = s.vertex_count();
+    for (size_t i = 0; i < s.triangles.size(); ++i)
+        if (s.triangles[i] >= n)
+            reject("triangle " + std::to_string(i / 3) + " refers to vertex " +
+                   std::to_string(s.triangles[i]) + ", but the surface has " + std::to_string(n) +
+                   " vertices");
+}
+
+void check_fields(const Surface& s) {
+    std::set<std::string> names;
+    for (const Field& f : s.fields) {
+        if (f.name.empty()) reject("a field has an empty name");
+        if (!names.insert(f.name).second) reject("field '" + f.name + "' appears twice");
+        if (f.components < 1)
+            reject("field '" + f.name + "' has " + std::to_string(f.components) + " components");
+        const size_t expected = s.vertex_count() * size_t(f.components);
+        if (f.values.size() != expected)
+            reject("field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                   " values, expected " + std::to_string(expected) + " (" +
+                   std::to_string(f.components) + " per vertex for " +
+                   std::to_string(s.vertex_count()) + " vertices)");
+        for (size_t i = 0; i < f.values.size(); ++i)
+            if (!std::isfinite(f.values[i]))
+                reject("field '" + f.name + "' has a non-finite value at vertex " +
+                       std::to_string(i / size_t(f.components)));
+    }
+}
+
+// Keeps the first of every set of triangles naming the same three vertices (in any order) and
+// drops triangles that name a vertex twice.
+void drop_bad_triangles(Surface& s, RepairReport& report) {
+    const size_t count = s.triangle_count();
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys;
+    keys.reserve(count);
+    std::vector<uint8_t> keep(count, 1);
+    for (uint32_t t = 0; t < count; ++t) {
+        std::array<uint32_t, 3> k{s.triangles[3 * t], s.triangles[3 * t + 1],
+                                  s.triangles[3 * t + 2]};
+        if (k[0] == k[1] || k[1] == k[2] || k[0] == k[2]) {
+            keep[t] = 0;
+            ++report.degenerate_triangles_dropped;
+            continue;
+        }
+        std::sort(k.begin(), k.end());
+        keys.push_back({k, t});
+    }
+    std::sort(keys.begin(), keys.end());
+    for (size_t i = 1; i < keys.size(); ++i)
+        if (keys[i].first == keys[i - 1].first) {
+            keep[keys[i].second] = 0;
+            ++report.duplicate_triangles_dropped;
+        }
+    if (report.degenerate_triangles_dropped + report.duplicate_triangles_dropped == 0) return;
+    size_t out = 0;
+    for (size_t t = 0; t < count; ++t)
+        if (keep[t])
+            for (int c = 0; c < 3; ++c) s.triangles[out++] = s.triangles[3 * t + c];
+    s.triangles.resize(out);
+    if (s.triangles.empty())
+        reject("no triangles left after dropping " +
+               std::to_string(report.degenerate_triangles_dropped) + " degenerate and " +
+               std::to_string(report.duplicate_triangles_dropped) + " duplicate triangles");
+}
+
+} // namespace
+
+RepairReport validate(Surface& surface) {
+    RepairReport report;
+    check_shape(surface);
+    check_positions(surface);
+    check_indices(surface);
+    check_fields(surface);
+    drop_bad_triangles(surface, report);
+    std::vector<uint8_t> used(surface.vertex_count(), 0);
+    for (uint32_t v : surface.triangles) used[v] = 1;
+    report.unused_vertices = size_t(std::count(used.begin(), used.end(), 0));
+    return report;
+}
+
+} // namespace ddsimp

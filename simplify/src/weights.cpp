@@ -1,1 +1,110 @@
-#include "ddsimp/ddsimp.h"
+#include "weights.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace ddsimp::detail {
+
+void GradientTerms::setup(const Surface& s, const std::vector<std::string>& fields) {
+    for (const std::string& name : fields)
+        if (!s.find_field(name)) {
+            std::string known;
+            for (const Field& f : s.fields) known += (known.empty() ? "" : ", ") + f.name;
+            throw InputError("unknown field '" + name +
+                             "' (the surface has: " + (known.empty() ? "no fields" : known) + ")");
+        }
+    const std::set<std::string> chosen(fields.begin(), fields.end());
+
+    std::vector<uint8_t> used(s.vertex_count(), 0);
+    for (uint32_t v : s.triangles) used[v] = 1;
+
+    components.clear();
+    uint32_t offset = 0;
+    for (const Field& f : s.fields) {
+        const size_t nc = size_t(f.components);
+        if (chosen.empty() || chosen.count(f.name)) {
+            double range = 0;
+            for (size_t c = 0; c < nc; ++c) {
+                double lo = INFINITY, hi = -INFINITY;
+                for (size_t v = 0; v < used.size(); ++v)
+                    if (used[v])
+                        lo = std::min(lo, double(f.values[v * nc + c])),
+                        hi = std::max(hi, double(f.values[v * nc + c]));
+                range = std::max(range, hi - lo);
+            }
+            if (range > 0)
+                for (size_t c = 0; c < nc; ++c)
+                    components.push_back({uint32_t(offset + c), float(1.0 / range)});
+        }
+        offset += uint32_t(nc);
+    }
+
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t v = 0; v < used.size(); ++v)
+        if (used[v])
+            for (int a = 0; a < 3; ++a)
+                lo[a] = std::min(lo[a], double(s.positions[3 * v + a])),
+                hi[a] = std::max(hi[a], double(s.positions[3 * v + a]));
+    const double diagonal =
+        std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    inv_diagonal = diagonal > 0 ? 1.0 / diagonal : 0.0;
+}
+
+double GradientTerms::at(const WorkingMesh& mesh, uint32_t v) const {
+    if (components.empty() || inv_diagonal == 0) return 0;
+    if (mesh.kind[v] == VertexKind::Complex || mesh.kind[v] == VertexKind::Dead) return 0;
+    const float* f = &mesh.data[v * mesh.stride];
+    const float* x = &mesh.position[3 * size_t(v)];
+    double best = 0;
+    auto consider = [&](uint32_t u) {
+        const float* fu = &mesh.data[u * mesh.stride];
+        const float* xu = &mesh.position[3 * size_t(u)];
+        const double dx = (std::abs(double(xu[0]) - x[0]) + std::abs(double(xu[1]) - x[1]) +
+                           std::abs(double(xu[2]) - x[2])) *
+                          inv_diagonal;
+        if (dx <= 0) return; // coincident points: no direction to take a gradient along
+        double df = 0;
+        for (const auto& [c, s] : components) df += std::abs(double(fu[c]) - f[c]) * s;
+        best = std::max(best, df / dx);
+    };
+    uint32_t last = kNone;
+    mesh.for_each_outgoing(v, [&](uint32_t h) {
+        consider(mesh.dest(h));
+        last = h;
+    });
+    if (mesh.twin[prev(last)] == kNone) consider(mesh.origin[prev(last)]);
+    return best;
+}
+
+} // namespace ddsimp::detail
+
+namespace ddsimp {
+
+namespace {
+detail::WorkingMesh analysed(const Surface& surface) {
+    detail::WorkingMesh mesh;
+    detail::Limits limits; // features do not matter for the weights
+    mesh.build(surface, surface.vertex_count(), limits);
+    return mesh;
+}
+} // namespace
+
+std::vector<float> vertex_curvature(const Surface& surface) {
+    const detail::WorkingMesh mesh = analysed(surface);
+    std::vector<float> result(surface.vertex_count());
+    for (uint32_t v = 0; v < result.size(); ++v) result[v] = float(mesh.curvature(v));
+    return result;
+}
+
+std::vector<float> vertex_gradient(const Surface& surface, const std::vector<std::string>& fields) {
+    detail::GradientTerms terms;
+    terms.setup(surface, fields);
+    const detail::WorkingMesh mesh = analysed(surface);
+    std::vector<float> result(surface.vertex_count());
+    for (uint32_t v = 0; v < result.size(); ++v) result[v] = float(terms.at(mesh, v));
+    return result;
+}
+
+} // namespace ddsimp

@@ -1,1 +1,172 @@
-#include "ddsimp/ddsimp.h"
+#include "working_mesh.h"
+
+#include <algorithm>
+#include <numbers>
+#include <numeric>
+
+namespace ddsimp::detail {
+
+void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
+    limits = lim;
+    vertex_count = s.vertex_count();
+    position.assign(3 * capacity, 0.0f);
+    std::copy(s.positions.begin(), s.positions.end(), position.begin());
+    stride = 0;
+    for (const Field& f : s.fields) stride += size_t(f.components);
+    data.assign(stride * capacity, 0.0f);
+    for (size_t v = 0, offset = 0; v < vertex_count; ++v)
+        for (const Field& f : s.fields)
+            for (int c = 0; c < f.components; ++c)
+                data[offset++] = f.values[v * size_t(f.components) + size_t(c)];
+
+    const size_t halfedges = s.triangles.size();
+    origin.assign(s.triangles.begin(), s.triangles.end());
+    twin.assign(halfedges, kNone);
+    line.assign(halfedges, 0);
+    live_triangles = s.triangle_count();
+    kind.assign(capacity, VertexKind::Dead);
+    valence.assign(capacity, 0);
+    out.assign(capacity, kNone);
+
+    // Outgoing half-edges grouped by origin (counting sort), to find twins without hashing.
+    std::vector<uint32_t> first(vertex_count + 1, 0);
+    for (uint32_t v : origin) ++first[v + 1];
+    std::partial_sum(first.begin(), first.end(), first.begin());
+    std::vector<uint32_t> outgoing(halfedges), fill(first.begin(), first.end() - 1);
+    for (uint32_t h = 0; h < halfedges; ++h) outgoing[fill[origin[h]]++] = h;
+
+    for (uint32_t v = 0; v < vertex_count; ++v)
+        if (first[v + 1] > first[v]) kind[v] = VertexKind::Free;
+
+    for (uint32_t h = 0; h < halfedges; ++h) {
+        const uint32_t a = origin[h], b = dest(h);
+        uint32_t same = 0, opposite = 0, candidate = kNone;
+        for (uint32_t k = first[a]; k < first[a + 1]; ++k) same += dest(outgoing[k]) == b;
+        for (uint32_t k = first[b]; k < first[b + 1]; ++k)
+            if (dest(outgoing[k]) == a) ++opposite, candidate = outgoing[k];
+        if (same == 1 && opposite == 1) {
+            twin[h] = candidate;
+        } else {
+            line[h] = 1;
+            if (same + opposite > 1) kind[a] = kind[b] = VertexKind::Complex;
+        }
+    }
+
+    // Feature edges from the dihedral angle between twin triangles.
+    std::vector<Vec3> normal(s.triangle_count());
+    for (uint32_t t = 0; t < normal.size(); ++t) {
+        Vec3 n = triangle_normal(t);
+        const double len = norm(n);
+        normal[t] = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
+    }
+    for (uint32_t h = 0; h < halfedges; ++h) {
+        const uint32_t t = twin[h];
+        if (t == kNone) continue;
+        const Vec3 &n0 = normal[h / 3], &n1 = normal[t / 3];
+        if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n0, n1) < limits.feature_cos) line[h] = 1;
+    }
+
+    // Each vertex's fan must cover all its triangles and have at most one boundary gap.
+    for (uint32_t v = 0; v < vertex_count; ++v) {
+        if (kind[v] == VertexKind::Dead) continue;
+        uint32_t open = 0, start = outgoing[first[v]];
+        for (uint32_t k = first[v]; k < first[v + 1]; ++k)
+            if (twin[outgoing[k]] == kNone) ++open, start = outgoing[k];
+        out[v] = start;
+        if (kind[v] == VertexKind::Complex) continue;
+        size_t fan = 0;
+        for_each_outgoing(v, [&](uint32_t) { ++fan; });
+        if (open > 1 || fan != first[v + 1] - first[v]) kind[v] = VertexKind::Complex;
+    }
+    for (uint32_t v = 0; v < vertex_count; ++v) classify(v);
+}
+
+Vec3 WorkingMesh::triangle_normal(uint32_t t) const {
+    const Vec3 a = point(origin[3 * t]), b = point(origin[3 * t + 1]), c = point(origin[3 * t + 2]);
+    return cross(sub(b, a), sub(c, a));
+}
+
+void WorkingMesh::reset_out(uint32_t v, uint32_t h) {
+    const uint32_t start = h;
+    for (;;) {
+        const uint32_t t = twin[h];
+        if (t == kNone) break;
+        h = next(t);
+        if (h == start) break;
+    }
+    out[v] = h;
+}
+
+void WorkingMesh::classify(uint32_t v) {
+    if (kind[v] == VertexKind::Dead) return;
+    if (kind[v] == VertexKind::Complex) {
+        valence[v] = 0xffff; // never part of an operation
+        return;
+    }
+    uint32_t ends[2];
+    int lines = 0;
+    uint32_t last = kNone, neighbours = 0;
+    for_each_outgoing(v, [&](uint32_t h) {
+        if (line[h]) {
+            if (lines < 2) ends[lines] = dest(h);
+            ++lines;
+        }
+        last = h;
+        ++neighbours;
+    });
+    const uint32_t incoming = prev(last);
+    if (twin[incoming] == kNone) { // the boundary edge that closes the fan
+        if (lines < 2) ends[lines] = origin[incoming];
+        ++lines;
+        ++neighbours;
+    }
+    valence[v] = uint16_t(std::min(neighbours, 0xffffu));
+    if (lines == 0) {
+        kind[v] = VertexKind::Free;
+        return;
+    }
+    if (lines == 2) {
+        const Vec3 p = point(v), in = sub(p, point(ends[0])), on = sub(point(ends[1]), p);
+        const double l = norm(in) * norm(on);
+        if (l > 0 && dot(in, on) >= limits.straight_cos * l) {
+            kind[v] = VertexKind::Line;
+            return;
+        }
+    }
+    kind[v] = VertexKind::Corner;
+}
+
+double WorkingMesh::curvature(uint32_t v) const {
+    if (kind[v] == VertexKind::Complex || kind[v] == VertexKind::Dead) return 0;
+    const Vec3 p = point(v);
+    double angles = 0;
+    for_each_outgoing(v, [&](uint32_t h) {
+        const Vec3 a = sub(point(dest(h)), p), b = sub(point(origin[prev(h)]), p);
+        angles += std::atan2(norm(cross(a, b)), dot(a, b));
+    });
+    const double full = is_boundary_vertex(v) ? std::numbers::pi : 2 * std::numbers::pi;
+    return std::abs(full - angles) / std::numbers::pi;
+}
+
+} // namespace ddsimp::detail
+
+namespace ddsimp::detail {
+
+size_t WorkingMesh::ring(uint32_t v, uint32_t* ids, size_t max) const {
+    size_t count = 0;
+    const uint32_t start = out[v];
+    uint32_t h = start;
+    do {
+        if (count == max) return 0;
+        ids[count++] = dest(h);
+        const uint32_t p = prev(h);
+        h = twin[p];
+        if (h == kNone) { // boundary: the fan ends with the origin of its incoming edge
+            if (count == max) return 0;
+            ids[count++] = origin[p];
+        }
+    } while (h != kNone && h != start);
+    return count;
+}
+
+} // namespace ddsimp::detail

@@ -80,11 +80,11 @@ struct Topology {
     size_t vertices = 0; // referenced by at least one triangle
     size_t triangles = 0;
     size_t edges = 0;
-    size_t boundary_edges = 0;     // edges with one triangle
-    size_t nonmanifold_edges = 0;  // edges with three or more triangles
-    size_t nonmanifold_vertices = 0; // vertices whose star is not one disk or half-disk
-    size_t boundary_loops = 0;     // closed loops of boundary edges
-    size_t components = 0;         // edge-connected components of triangles
+    size_t boundary_edges = 0;          // edges with one triangle
+    size_t nonmanifold_edges = 0;       // edges with three or more triangles
+    size_t nonmanifold_vertices = 0;    // vertices whose star is not one disk or half-disk
+    size_t boundary_loops = 0;          // closed loops of boundary edges
+    size_t components = 0;              // edge-connected components of triangles
     long long euler_characteristic = 0; // V - E + F
 };
 
@@ -206,8 +206,8 @@ private:
     friend class Simplifier;
     Strategy strategy_ = Strategy::EdgeCollapse;
     Surface vertices_; // input vertices, then the points made by collapses (no triangles)
-    std::vector<uint32_t> base_triangles_;   // the repaired input's triangles
-    std::vector<uint32_t> triangles_after_;  // per operation
+    std::vector<uint32_t> base_triangles_;  // the repaired input's triangles
+    std::vector<uint32_t> triangles_after_; // per operation
     size_t triangles_in_ = 0;
     StopReason stop_ = StopReason::NothingRemovable;
     RepairReport repairs_;

@@ -1,0 +1,264 @@
+// Edge collapse: the edge's two vertices become one new vertex, placed at the midpoint, at a
+// volume-preserving point, or on the end that a boundary or feature line pins down. Its data is
+// interpolated at the point's position along the edge.
+#include "simplifier.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ddsimp {
+
+using namespace detail;
+
+namespace {
+bool on_line(VertexKind k) {
+    return k == VertexKind::Line || k == VertexKind::Corner;
+}
+} // namespace
+
+bool Simplifier::kinds_allow_collapse(uint32_t h) const {
+    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
+    const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
+    if (ka == VertexKind::Complex || kb == VertexKind::Complex) return false;
+    if (ka == VertexKind::Dead || kb == VertexKind::Dead) return false;
+    if (ka == VertexKind::Corner && kb == VertexKind::Corner) return false;
+    if (size_t(mesh_.valence[a]) + mesh_.valence[b] > kMaxNewValence + 4) return false;
+    // Two line vertices may only merge along their common line...
+    if (on_line(ka) && on_line(kb) && !mesh_.line[h]) return false;
+    // ...and an inner edge between two boundary vertices would pinch the surface.
+    if (mesh_.twin[h] != kNone && mesh_.is_boundary_vertex(a) && mesh_.is_boundary_vertex(b))
+        return false;
+    return true;
+}
+
+HeapKey Simplifier::collapse_key(uint32_t h) const {
+    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
+    return {weight_[a] + weight_[b], norm(sub(mesh_.point(a), mesh_.point(b)))};
+}
+
+HeapKey Simplifier::best_collapse_key(uint32_t v) const {
+    HeapKey best;
+    const VertexKind k = mesh_.kind[v];
+    if (k == VertexKind::Complex || k == VertexKind::Dead) return best;
+    uint32_t last = kNone;
+    auto consider = [&](uint32_t h) {
+        if (!kinds_allow_collapse(h)) return;
+        const HeapKey key = collapse_key(h);
+        if (key < best) best = key;
+    };
+    mesh_.for_each_outgoing(v, [&](uint32_t h) {
+        consider(h);
+        last = h;
+    });
+    if (mesh_.twin[prev(last)] == kNone) consider(prev(last));
+    return best;
+}
+
+bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
+    if (!kinds_allow_collapse(h)) return false;
+    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
+    const uint32_t x = mesh_.origin[prev(h)], y = ht != kNone ? mesh_.origin[prev(ht)] : kNone;
+
+    // A removed triangle must keep at least one neighbour, or it would leave a dangling edge.
+    if (mesh_.twin[next(h)] == kNone && mesh_.twin[prev(h)] == kNone) return false;
+    if (ht != kNone && mesh_.twin[next(ht)] == kNone && mesh_.twin[prev(ht)] == kNone) return false;
+
+    // Link condition: a and b share exactly the apexes of the edge's triangles as neighbours.
+    uint32_t ring_a[kMaxValence], ring_b[kMaxValence];
+    const size_t na = mesh_.ring(a, ring_a, kMaxValence), nb = mesh_.ring(b, ring_b, kMaxValence);
+    if (na == 0 || nb == 0) return false;
+    size_t common = 0;
+    for (size_t i = 0; i < na; ++i)
+        for (size_t j = 0; j < nb; ++j)
+            if (ring_a[i] == ring_b[j]) {
+                if (ring_a[i] != x && ring_a[i] != y) return false;
+                ++common;
+            }
+    if (common != (y == kNone ? 1u : 2u)) return false;
+    // An inner apex of valence 3 would be left with two triangles on the same three vertices.
+    for (uint32_t apex : {x, y})
+        if (apex != kNone && mesh_.kind[apex] != VertexKind::Complex &&
+            !mesh_.is_boundary_vertex(apex) && mesh_.valence[apex] == 3)
+            return false;
+
+    // Where the new point goes.
+    const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
+    const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
+    Vec3 p = scale(add(pa, pb), 0.5);
+    if (ka == VertexKind::Corner || (ka == VertexKind::Line && kb == VertexKind::Free))
+        p = pa;
+    else if (kb == VertexKind::Corner || (kb == VertexKind::Line && ka == VertexKind::Free))
+        p = pb;
+    else if (ka == VertexKind::Free && kb == VertexKind::Free &&
+             options_.placement == Placement::VolumePreserving) {
+        // Volume between the star and the new star is linear in p: n . p = d (a plane); take
+        // the point of that plane nearest the midpoint. Coordinates relative to the midpoint.
+        const Vec3 mid = p;
+        Vec3 normal{0, 0, 0};
+        double before = 0;
+        auto add_star = [&](uint32_t v) {
+            mesh_.for_each_outgoing(v, [&](uint32_t g) {
+                const Vec3 q = sub(mesh_.point(mesh_.dest(g)), mid);
+                const Vec3 r = sub(mesh_.point(mesh_.origin[prev(g)]), mid);
+                const Vec3 qr = cross(q, r);
+                before += dot(qr, sub(mesh_.point(v), mid));
+                const uint32_t t = g / 3;
+                if (t != h / 3 && (ht == kNone || t != ht / 3)) normal = add(normal, qr);
+            });
+        };
+        add_star(a);
+        // b's star without the two shared triangles (already counted from a).
+        mesh_.for_each_outgoing(b, [&](uint32_t g) {
+            const uint32_t t = g / 3;
+            if (t == h / 3 || (ht != kNone && t == ht / 3)) return;
+            const Vec3 q = sub(mesh_.point(mesh_.dest(g)), mid);
+            const Vec3 r = sub(mesh_.point(mesh_.origin[prev(g)]), mid);
+            const Vec3 qr = cross(q, r);
+            before += dot(qr, sub(pb, mid));
+            normal = add(normal, qr);
+        });
+        const double nn = dot(normal, normal);
+        const double length = norm(sub(pb, pa));
+        if (nn > 0) {
+            const Vec3 shift = scale(normal, before / nn);
+            // A nearly flat star puts the plane far away; keep the point near the edge.
+            if (norm(shift) <= 0.5 * length) p = add(mid, shift);
+        }
+    }
+    const Vec3 edge = sub(pb, pa);
+    const double ee = dot(edge, edge);
+    plan.along = ee > 0 ? std::clamp(dot(sub(p, pa), edge) / ee, 0.0, 1.0) : 0.5;
+    plan.point = p;
+    plan.halfedge = h;
+
+    // No remaining triangle may flip, fold or turn its normal by more than the limit.
+    const double turn_cos = mesh_.limits.normal_turn_cos;
+    bool ok = true;
+    auto check_star = [&](uint32_t v) {
+        const Vec3 pv = mesh_.point(v);
+        mesh_.for_each_outgoing(v, [&](uint32_t g) {
+            const uint32_t t = g / 3;
+            if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
+            const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
+            const Vec3 before = cross(sub(q, pv), sub(r, pv));
+            const Vec3 after = cross(sub(q, p), sub(r, p));
+            const double la = norm(after), lb = norm(before);
+            const Vec3 qp = sub(q, p), rp = sub(r, p);
+            if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp)))
+                ok = false;
+            else if (lb > 0 && dot(after, before) < turn_cos * la * lb)
+                ok = false;
+        });
+    };
+    check_star(a);
+    check_star(b);
+    return ok;
+}
+
+void Simplifier::apply_collapse(const CollapsePlan& plan) {
+    WorkingMesh& m = mesh_;
+    const uint32_t h = plan.halfedge, ht = m.twin[h];
+    const uint32_t a = m.origin[h], b = m.dest(h);
+    const uint32_t x = m.origin[prev(h)], y = ht != kNone ? m.origin[prev(ht)] : kNone;
+    const uint32_t n = uint32_t(m.vertex_count++);
+    const uint32_t t0 = h / 3, t1 = ht != kNone ? ht / 3 : kNone;
+
+    // Half-edges that leave a or b and survive; they will leave n.
+    uint32_t leaving[2 * kMaxValence];
+    size_t count = 0;
+    for (uint32_t v : {a, b})
+        m.for_each_outgoing(v, [&](uint32_t g) {
+            if (g / 3 != t0 && g / 3 != t1) leaving[count++] = g;
+        });
+
+    // A way into the fans of the apexes that survives the collapse.
+    auto apex_entry = [&](uint32_t e) { // e: the removed triangle's half-edge into the apex
+        const uint32_t from_apex = m.twin[e];
+        return from_apex != kNone ? from_apex : next(m.twin[next(e)]);
+    };
+    const uint32_t entry_x = apex_entry(next(h));
+    const uint32_t entry_y = ht != kNone ? apex_entry(next(ht)) : kNone;
+
+    // The two outer edges of each removed triangle become one edge.
+    auto merge = [&](uint32_t e1, uint32_t e2) {
+        const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
+        const uint8_t l = m.line[e1] | m.line[e2];
+        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l;
+        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l;
+    };
+    merge(next(h), prev(h));
+    if (ht != kNone) merge(next(ht), prev(ht));
+    for (size_t i = 0; i < count; ++i) m.origin[leaving[i]] = n;
+    for (uint32_t t : {t0, t1}) {
+        if (t == kNone) continue;
+        for (uint32_t c = 0; c < 3; ++c) m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
+        --m.live_triangles;
+    }
+
+    // The new vertex.
+    for (int c = 0; c < 3; ++c) m.position[3 * size_t(n) + c] = float(plan.point[c]);
+    const float* da = &m.data[a * m.stride];
+    const float* db = &m.data[b * m.stride];
+    float* dn = &m.data[n * m.stride];
+    for (size_t c = 0; c < m.stride; ++c)
+        dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
+    m.kind[a] = m.kind[b] = VertexKind::Dead;
+    m.out[a] = m.out[b] = kNone;
+    heap_.erase(a);
+    heap_.erase(b);
+    m.kind[n] = VertexKind::Free;
+    m.reset_out(n, leaving[0]);
+    m.reset_out(x, entry_x);
+    if (y != kNone) m.reset_out(y, entry_y);
+
+    record_.collapse_.push_back(a);
+    record_.collapse_.push_back(b);
+    ++operations_;
+
+    uint32_t changed[2 * kMaxValence + 3];
+    changed[0] = n;
+    const size_t k = m.ring(n, changed + 1, 2 * kMaxValence + 2);
+    refresh_around(changed, k + 1);
+}
+
+void Simplifier::step_collapse(uint32_t v) {
+    heap_.erase(v);
+    const HeapKey next_best = heap_.empty() ? HeapKey{} : heap_.key(heap_.top());
+
+    struct Candidate {
+        HeapKey key;
+        uint32_t other, halfedge;
+    };
+    Candidate candidates[kMaxValence + 1];
+    size_t count = 0;
+    uint32_t last = kNone;
+    auto consider = [&](uint32_t h, uint32_t other) {
+        if (count <= kMaxValence && kinds_allow_collapse(h))
+            candidates[count++] = {collapse_key(h), other, h};
+    };
+    mesh_.for_each_outgoing(v, [&](uint32_t h) {
+        consider(h, mesh_.dest(h));
+        last = h;
+    });
+    if (mesh_.twin[prev(last)] == kNone) consider(prev(last), mesh_.origin[prev(last)]);
+    std::sort(candidates, candidates + count, [](const Candidate& l, const Candidate& r) {
+        if (l.key < r.key) return true;
+        if (r.key < l.key) return false;
+        return l.other < r.other;
+    });
+
+    CollapsePlan plan;
+    for (size_t i = 0; i < count; ++i) {
+        if (next_best < candidates[i].key) { // something else is lighter now: wait for it
+            heap_.set(v, candidates[i].key);
+            return;
+        }
+        if (plan_collapse(candidates[i].halfedge, plan)) {
+            apply_collapse(plan);
+            return;
+        }
+    }
+    // Nothing around v can go for now; a change nearby puts it back in the heap.
+}
+
+} // namespace ddsimp

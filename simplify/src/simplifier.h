@@ -1,0 +1,81 @@
+// One simplification run: the weights, the mutable heap, the two strategies and the record they
+// write. Pipeline: build the half-edge mesh -> classify vertices -> weigh -> take the lightest
+// element from the heap, check it, apply it, update its neighbourhood -> repeat until the target.
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+#include "indexed_heap.h"
+#include "weights.h"
+#include "working_mesh.h"
+
+namespace ddsimp {
+
+class Simplifier {
+public:
+    // `surface` must have passed `validate`.
+    Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs);
+    ProgressiveRecord run();
+
+private:
+    static constexpr size_t kMaxValence = 64;
+    // A collapse may not make a vertex with more neighbours than this: hubs of many thin
+    // triangles are bad for rendering and interpolation alike.
+    static constexpr size_t kMaxNewValence = 24;
+
+    // What a collapse of the edge `halfedge` (from `keep` to `gone`, both replaced by a new
+    // vertex) will do; filled by plan_collapse.
+    struct CollapsePlan {
+        uint32_t halfedge;
+        detail::Vec3 point;
+        double along; // position of `point` along the edge, for the data
+    };
+    // The re-triangulation of a removed vertex's star; filled by plan_removal.
+    struct RemovalPlan {
+        uint32_t vertex;
+        size_t ring_size;
+        bool boundary;
+        uint32_t ring[kMaxValence];
+        uint32_t star[kMaxValence];       // the star's triangle slots, in ring order
+        uint32_t outer_twin[kMaxValence]; // twin of polygon edge i (ring[i] -> ring[i+1])
+        uint8_t outer_line[kMaxValence];
+        size_t new_count;
+        uint8_t triangles[kMaxValence][3];  // new triangles as indices into ring
+        int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
+    };
+
+    // simplifier.cpp: weights, keys, the main loop.
+    double weight_of(uint32_t v) const;
+    void refresh_weight(uint32_t v);
+    void refresh_key(uint32_t v);
+    void refresh_around(const uint32_t* changed, size_t count);
+    bool report_progress(size_t live, size_t target);
+
+    // edge_collapse.cpp
+    bool kinds_allow_collapse(uint32_t h) const;
+    detail::HeapKey collapse_key(uint32_t h) const;
+    detail::HeapKey best_collapse_key(uint32_t v) const;
+    bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
+    void apply_collapse(const CollapsePlan& plan);
+    void step_collapse(uint32_t v);
+
+    // vertex_removal.cpp
+    detail::HeapKey removal_key(uint32_t v) const;
+    bool plan_removal(uint32_t v, RemovalPlan& plan) const;
+    bool triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
+                     size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
+    void apply_removal(const RemovalPlan& plan);
+    void step_removal(uint32_t v);
+
+    Options options_;
+    detail::WorkingMesh mesh_;
+    detail::GradientTerms gradient_;
+    std::vector<double> weight_;
+    double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
+    detail::IndexedHeap heap_;
+    std::vector<uint32_t> stamp_;
+    uint32_t stamp_now_ = 0;
+    size_t operations_ = 0;
+    ProgressiveRecord record_;
+};
+
+} // namespace ddsimp

@@ -1,0 +1,255 @@
+// Vertex removal: the vertex goes, the polygon of its star is projected to the plane of the
+// star's mean normal and re-triangulated by clipping its best-shaped ears. The remaining
+// vertices keep their data exactly.
+#include "simplifier.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ddsimp {
+
+using namespace detail;
+
+namespace {
+
+double orient(const double* p, const double* q, const double* r) {
+    return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
+}
+
+// 1 for an equilateral triangle, towards 0 for a sliver.
+double shape(const double* p, const double* q, const double* r) {
+    auto d2 = [](const double* a, const double* b) {
+        return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]);
+    };
+    const double sum = d2(p, q) + d2(q, r) + d2(r, p);
+    return sum > 0 ? 2 * std::sqrt(3.0) * orient(p, q, r) / sum : 0;
+}
+
+} // namespace
+
+HeapKey Simplifier::removal_key(uint32_t v) const {
+    const VertexKind k = mesh_.kind[v];
+    if (k != VertexKind::Free && k != VertexKind::Line) return {};
+    double shortest = INFINITY;
+    const Vec3 p = mesh_.point(v);
+    mesh_.for_each_outgoing(v, [&](uint32_t h) {
+        shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
+    });
+    return {weight_[v], shortest};
+}
+
+// Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
+bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
+                             size_t n, const uint64_t* adjacent, RemovalPlan& out) const {
+    uint8_t left[kMaxValence];
+    std::copy(polygon, polygon + n, left);
+    double extent = 0;
+    for (size_t i = 0; i < plan.ring_size; ++i)
+        extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
+    const double eps = 1e-12 * extent * extent;
+    while (n >= 3) {
+        size_t best = n;
+        double best_shape = -1;
+        for (size_t i = 0; i < n; ++i) {
+            const uint8_t p = left[(i + n - 1) % n], c = left[i], q = left[(i + 1) % n];
+            if (orient(xy[p], xy[c], xy[q]) <= eps) continue; // reflex or flat
+            // The new edge p-q must not exist already (it would be non-manifold), unless this is
+            // the last triangle, whose edges are all there by construction.
+            if (n > 3 && (adjacent[p] >> q & 1)) continue;
+            bool empty = true;
+            for (size_t j = 0; j < n && empty; ++j) {
+                const uint8_t o = left[j];
+                if (o == p || o == c || o == q) continue;
+                empty = orient(xy[p], xy[c], xy[o]) < -eps || orient(xy[c], xy[q], xy[o]) < -eps ||
+                        orient(xy[q], xy[p], xy[o]) < -eps;
+            }
+            if (!empty) continue;
+            const double s = shape(xy[p], xy[c], xy[q]);
+            if (s > best_shape) best_shape = s, best = i;
+        }
+        if (best == n) return false;
+        if (out.new_count == kMaxValence) return false;
+        uint8_t* t = out.triangles[out.new_count++];
+        t[0] = left[(best + n - 1) % n], t[1] = left[best], t[2] = left[(best + 1) % n];
+        std::copy(left + best + 1, left + n, left + best);
+        --n;
+    }
+    return true;
+}
+
+bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
+    const VertexKind k = mesh_.kind[v];
+    if (k != VertexKind::Free && k != VertexKind::Line) return false;
+    plan.vertex = v;
+    plan.boundary = mesh_.is_boundary_vertex(v);
+    plan.new_count = 0;
+    plan.feature_a = plan.feature_b = -1;
+
+    size_t fan = 0;
+    uint32_t last = kNone;
+    Vec3 normal{0, 0, 0};
+    bool fits = true;
+    mesh_.for_each_outgoing(v, [&](uint32_t h) {
+        if (fan + 1 >= kMaxValence) {
+            fits = false;
+            return;
+        }
+        plan.ring[fan] = mesh_.dest(h);
+        plan.star[fan] = h / 3;
+        plan.outer_twin[fan] = mesh_.twin[next(h)];
+        plan.outer_line[fan] = mesh_.line[next(h)];
+        if (!plan.boundary && mesh_.line[h]) // a feature line through v
+            (plan.feature_a < 0 ? plan.feature_a : plan.feature_b) = int(fan);
+        normal = add(normal, mesh_.triangle_normal(h / 3));
+        last = h;
+        ++fan;
+    });
+    if (!fits) return false;
+    size_t n = fan;
+    if (plan.boundary) plan.ring[n++] = mesh_.origin[prev(last)];
+    plan.ring_size = n;
+    if (n < (plan.boundary ? 2u : 3u)) return false;
+
+    // Which ring vertices are already joined by an edge (outside the star).
+    uint64_t adjacent[kMaxValence] = {};
+    uint32_t neighbours[kMaxValence];
+    for (size_t i = 0; i < n; ++i) {
+        const size_t m = mesh_.ring(plan.ring[i], neighbours, kMaxValence);
+        if (m == 0) return false;
+        for (size_t j = 0; j < m; ++j)
+            for (size_t r = 0; r < n; ++r)
+                if (plan.ring[r] == neighbours[j]) adjacent[i] |= uint64_t(1) << r;
+    }
+
+    if (plan.boundary) {
+        if (n == 2) return plan.outer_twin[0] != kNone; // an ear: its inner edge stays
+        if (adjacent[n - 1] >> 0 & 1) return false;     // the new boundary edge exists already
+    } else if (n == 3) {
+        // The one new triangle must not already exist on the far side (a tetrahedron).
+        const uint32_t far = plan.outer_twin[0];
+        if (far != kNone && mesh_.origin[prev(far)] == plan.ring[2]) return false;
+    }
+
+    // Project the ring to the plane of the star's mean normal.
+    const double nn = norm(normal);
+    if (!(nn > 0)) return false;
+    const Vec3 axis = scale(normal, 1 / nn);
+    Vec3 e1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    e1 = sub(e1, scale(axis, dot(e1, axis)));
+    e1 = scale(e1, 1 / norm(e1));
+    const Vec3 e2 = cross(axis, e1);
+    double xy[kMaxValence][2];
+    const Vec3 centre = mesh_.point(v);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 d = sub(mesh_.point(plan.ring[i]), centre);
+        xy[i][0] = dot(d, e1), xy[i][1] = dot(d, e2);
+    }
+
+    uint8_t polygon[kMaxValence];
+    const int fa = plan.feature_a, fb = plan.feature_b;
+    const bool split = fa >= 0 && fb >= 0 && fb - fa >= 2 && size_t(fa + int(n) - fb) >= 2;
+    if (split) { // the feature line must go on as the edge between its two ends
+        if (adjacent[fa] >> fb & 1) return false;
+        size_t m = 0;
+        for (int i = fa; i <= fb; ++i) polygon[m++] = uint8_t(i);
+        if (!triangulate(plan, xy, polygon, m, adjacent, plan)) return false;
+        m = 0;
+        for (int i = fb; i != fa + int(n); ++i) polygon[m++] = uint8_t(i % int(n));
+        polygon[m++] = uint8_t(fa);
+        if (!triangulate(plan, xy, polygon, m, adjacent, plan)) return false;
+    } else {
+        for (size_t i = 0; i < n; ++i) polygon[i] = uint8_t(i);
+        if (!triangulate(plan, xy, polygon, n, adjacent, plan)) return false;
+    }
+
+    // The new triangles must face the same way as the star in 3D too.
+    for (size_t t = 0; t < plan.new_count; ++t) {
+        const uint8_t* c = plan.triangles[t];
+        const Vec3 p0 = mesh_.point(plan.ring[c[0]]);
+        const Vec3 tn =
+            cross(sub(mesh_.point(plan.ring[c[1]]), p0), sub(mesh_.point(plan.ring[c[2]]), p0));
+        if (dot(tn, axis) <= 0) return false;
+    }
+    return true;
+}
+
+void Simplifier::apply_removal(const RemovalPlan& plan) {
+    WorkingMesh& m = mesh_;
+    const size_t n = plan.ring_size, fan = plan.boundary ? n - 1 : n;
+    const bool consecutive_feature =
+        plan.feature_a >= 0 && plan.feature_b >= 0 &&
+        (plan.feature_b - plan.feature_a == 1 || plan.feature_a + int(n) - plan.feature_b == 1);
+    auto is_feature_pair = [&](int p, int q) {
+        return (p == plan.feature_a && q == plan.feature_b) ||
+               (q == plan.feature_a && p == plan.feature_b);
+    };
+
+    // Rewrite the first new_count star slots with the new triangles, retire the others.
+    for (size_t t = 0; t < plan.new_count; ++t) {
+        const uint32_t slot = plan.star[t];
+        for (int c = 0; c < 3; ++c) m.origin[3 * slot + c] = plan.ring[plan.triangles[t][c]];
+    }
+    for (size_t t = plan.new_count; t < fan; ++t) {
+        const uint32_t slot = plan.star[t];
+        for (int c = 0; c < 3; ++c) m.origin[3 * slot + c] = kNone, m.twin[3 * slot + c] = kNone;
+    }
+    // Twins and line flags of the new half-edges.
+    for (size_t t = 0; t < plan.new_count; ++t)
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t h = 3 * plan.star[t] + uint32_t(c);
+            const int p = plan.triangles[t][c], q = plan.triangles[t][(c + 1) % 3];
+            if (q == (p + 1) % int(n) && !(plan.boundary && p == int(n) - 1)) {
+                const uint32_t o = plan.outer_twin[p];
+                m.twin[h] = o;
+                m.line[h] = plan.outer_line[p] || (consecutive_feature && is_feature_pair(p, q));
+                if (o != kNone) m.twin[o] = h, m.line[o] = m.line[h];
+            } else if (plan.boundary && p == int(n) - 1 && q == 0) {
+                m.twin[h] = kNone, m.line[h] = 1; // the new stretch of boundary
+            } else {
+                m.line[h] = is_feature_pair(p, q);
+                for (size_t s = 0; s < plan.new_count; ++s)
+                    for (int d = 0; d < 3; ++d)
+                        if (plan.triangles[s][d] == q && plan.triangles[s][(d + 1) % 3] == p)
+                            m.twin[h] = 3 * plan.star[s] + uint32_t(d);
+            }
+        }
+    if (plan.boundary && n == 2) { // the removed ear's inner edge becomes boundary
+        const uint32_t o = plan.outer_twin[0];
+        m.twin[o] = kNone, m.line[o] = 1;
+    }
+    m.live_triangles -= fan - plan.new_count;
+    m.kind[plan.vertex] = VertexKind::Dead;
+    m.out[plan.vertex] = kNone;
+
+    // Every ring vertex needs a surviving way into its fan.
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t entry = kNone;
+        for (size_t t = 0; t < plan.new_count && entry == kNone; ++t)
+            for (int c = 0; c < 3; ++c)
+                if (plan.triangles[t][c] == i) entry = 3 * plan.star[t] + uint32_t(c);
+        if (entry == kNone) { // only for the ear: use the far side of its inner edge
+            const uint32_t o = plan.outer_twin[0];
+            entry = i == 1 ? o : next(o);
+        }
+        m.reset_out(plan.ring[i], entry);
+    }
+
+    // The record: {slot, a, b, c} per rewritten slot, {slot, kNone, kNone, kNone} per retired.
+    for (size_t t = 0; t < fan; ++t) {
+        const uint32_t slot = plan.star[t];
+        record_.writes_.push_back(slot);
+        for (int c = 0; c < 3; ++c) record_.writes_.push_back(m.origin[3 * slot + c]);
+    }
+    record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
+    ++operations_;
+    refresh_around(plan.ring, n);
+}
+
+void Simplifier::step_removal(uint32_t v) {
+    heap_.erase(v);
+    RemovalPlan plan;
+    if (plan_removal(v, plan)) apply_removal(plan);
+    // Otherwise v stays out until a change in its neighbourhood puts it back.
+}
+
+} // namespace ddsimp

@@ -1,0 +1,109 @@
+// The mutable surface the simplifier works on: flat arrays, a half-edge structure over triangle
+// slots, no per-element allocation. Half-edge h = 3t + c runs from corner c of slot t to corner
+// c + 1; its twin is the half-edge of the neighbouring triangle on the same edge, or kNone on a
+// boundary. Edges with three or more triangles, or whose triangles disagree on orientation, get
+// no twin either, and their vertices are locked (kind Complex).
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+inline constexpr uint32_t kNone = 0xffffffffu;
+
+inline uint32_t next(uint32_t h) {
+    return h % 3 == 2 ? h - 2 : h + 1;
+}
+inline uint32_t prev(uint32_t h) {
+    return h % 3 == 0 ? h + 2 : h - 1;
+}
+
+// What a vertex may do. Line: on a boundary or feature line that continues straight. Corner: on
+// a line, but where it bends, ends or branches; it stays where it is. Complex: its star is not
+// a disk or half-disk; it is never touched.
+enum class VertexKind : uint8_t { Free, Line, Corner, Complex, Dead };
+
+using Vec3 = std::array<double, 3>;
+inline Vec3 sub(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
+inline Vec3 add(const Vec3& a, const Vec3& b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+inline Vec3 scale(const Vec3& a, double s) {
+    return {a[0] * s, a[1] * s, a[2] * s};
+}
+inline double dot(const Vec3& a, const Vec3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+inline double norm(const Vec3& a) {
+    return std::sqrt(dot(a, a));
+}
+
+// Feature and tolerance settings, as cosines.
+struct Limits {
+    double feature_cos = -2; // twin normals with a smaller cosine make a feature edge
+    double straight_cos = 1; // a line vertex's two edges must turn less than this
+    double normal_turn_cos = 0.5;
+};
+
+struct WorkingMesh {
+    // Per vertex (capacity: input vertices + one new vertex per possible collapse).
+    std::vector<float> position; // 3 per vertex
+    std::vector<float> data;     // `stride` per vertex: every field's components, in field order
+    size_t stride = 0;
+    std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
+    std::vector<VertexKind> kind;
+    std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
+    size_t vertex_count = 0;       // vertices in use (ids below this)
+
+    // Per half-edge.
+    std::vector<uint32_t> origin; // kNone for a retired slot
+    std::vector<uint32_t> twin;
+    std::vector<uint8_t> line; // boundary or feature edge
+
+    size_t live_triangles = 0;
+    Limits limits;
+
+    // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
+    // `capacity` is the number of vertex slots to reserve.
+    void build(const Surface& surface, size_t capacity, const Limits& limits);
+
+    Vec3 point(uint32_t v) const {
+        const float* p = &position[3 * size_t(v)];
+        return {p[0], p[1], p[2]};
+    }
+    uint32_t dest(uint32_t h) const { return origin[next(h)]; }
+    bool is_boundary_vertex(uint32_t v) const { return twin[out[v]] == kNone; }
+    // Outgoing half-edges around v, counter-clockwise from out[v]; stops at a boundary.
+    template <class F> void for_each_outgoing(uint32_t v, F&& f) const {
+        const uint32_t start = out[v];
+        uint32_t h = start;
+        do {
+            f(h);
+            h = twin[prev(h)];
+        } while (h != kNone && h != start);
+    }
+    // Neighbours of v in counter-clockwise order (on a boundary from the fan's first to its last
+    // neighbour) into ids[0..max); returns their number, or 0 if there are more than `max`.
+    size_t ring(uint32_t v, uint32_t* ids, size_t max) const;
+
+    Vec3 triangle_normal(uint32_t t) const; // not normalised (length = 2 x area)
+    // Points `out[v]` at the fan's first half-edge (the one without a twin, if any), starting
+    // the search at outgoing half-edge `h`.
+    void reset_out(uint32_t v, uint32_t h);
+    // Recomputes the kind and valence of v from its fan, line edges and their straightness.
+    void classify(uint32_t v);
+    // Unit-free curvature: |2pi - sum of angles| (|pi - ...| on a boundary) / pi.
+    double curvature(uint32_t v) const;
+};
+
+} // namespace ddsimp::detail
