@@ -206,6 +206,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     m.out[a] = m.out[b] = kNone;
     heap_.erase(a);
     heap_.erase(b);
+    for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
     m.kind[n] = VertexKind::Free;
     m.reset_out(n, leaving[0]);
     m.reset_out(x, entry_x);

@@ -109,26 +109,34 @@ void Simplifier::refresh_key(uint32_t v) {
         heap_.set(v, key);
 }
 
-// After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are
-// recomputed; then every key that reads them (their own and, for edge collapse, their
-// neighbours', since an edge key sums both ends).
+// After an operation: `changed` vertices have new neighbourhoods. Their kinds, weights and keys
+// are recomputed. For edge collapse their neighbours' keys (which add a changed weight) are only
+// lowered where an edge to a changed vertex became lighter; a key left too low is corrected
+// when its vertex is taken from the heap (step_collapse recomputes it), so the order is exact.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) mesh_.classify(changed[i]);
     for (size_t i = 0; i < count; ++i) refresh_weight(changed[i]);
     ++stamp_now_;
-    auto touch = [&](uint32_t v) {
-        if (stamp_[v] == stamp_now_) return;
-        stamp_[v] = stamp_now_;
-        refresh_key(v);
-    };
-    uint32_t ring[kMaxValence];
     for (size_t i = 0; i < count; ++i) {
-        touch(changed[i]);
-        if (options_.strategy != Strategy::EdgeCollapse) continue;
-        const size_t k = mesh_.ring(changed[i], ring, kMaxValence);
-        for (size_t j = 0; j < k; ++j) touch(ring[j]);
-        if (k == 0) // too many neighbours to list: walk the fan instead
-            mesh_.for_each_outgoing(changed[i], [&](uint32_t h) { touch(mesh_.dest(h)); });
+        stamp_[changed[i]] = stamp_now_;
+        refresh_key(changed[i]);
+    }
+    if (options_.strategy != Strategy::EdgeCollapse) return;
+    auto lower = [&](uint32_t h, uint32_t other) {
+        if (stamp_[other] == stamp_now_ || !kinds_allow_collapse(h)) return;
+        const HeapKey key = collapse_key(h);
+        if (!heap_.contains(other) || key < heap_.key(other)) heap_.set(other, key);
+    };
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t v = changed[i];
+        if (mesh_.kind[v] == VertexKind::Complex || mesh_.kind[v] == VertexKind::Dead) continue;
+        uint32_t last = kNone;
+        mesh_.for_each_outgoing(v, [&](uint32_t h) {
+            lower(h, mesh_.dest(h));
+            last = h;
+        });
+        if (mesh_.twin[detail::prev(last)] == kNone)
+            lower(detail::prev(last), mesh_.origin[detail::prev(last)]);
     }
 }
 

@@ -188,6 +188,7 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     for (size_t t = 0; t < plan.new_count; ++t) {
         const uint32_t slot = plan.star[t];
         for (int c = 0; c < 3; ++c) m.origin[3 * slot + c] = plan.ring[plan.triangles[t][c]];
+        m.update_angles(slot);
     }
     for (size_t t = plan.new_count; t < fan; ++t) {
         const uint32_t slot = plan.star[t];

@@ -23,6 +23,8 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
     origin.assign(s.triangles.begin(), s.triangles.end());
     twin.assign(halfedges, kNone);
     line.assign(halfedges, 0);
+    angle.assign(halfedges, 0.0f);
+    for (uint32_t t = 0; t < halfedges / 3; ++t) update_angles(t);
     live_triangles = s.triangle_count();
     kind.assign(capacity, VertexKind::Dead);
     valence.assign(capacity, 0);
@@ -86,6 +88,14 @@ Vec3 WorkingMesh::triangle_normal(uint32_t t) const {
     return cross(sub(b, a), sub(c, a));
 }
 
+void WorkingMesh::update_angles(uint32_t t) {
+    const Vec3 p[3] = {point(origin[3 * t]), point(origin[3 * t + 1]), point(origin[3 * t + 2])};
+    for (int c = 0; c < 3; ++c) {
+        const Vec3 a = sub(p[(c + 1) % 3], p[c]), b = sub(p[(c + 2) % 3], p[c]);
+        angle[3 * t + c] = std::atan2(float(norm(cross(a, b))), float(dot(a, b)));
+    }
+}
+
 void WorkingMesh::reset_out(uint32_t v, uint32_t h) {
     const uint32_t start = h;
     for (;;) {
@@ -138,12 +148,8 @@ void WorkingMesh::classify(uint32_t v) {
 
 double WorkingMesh::curvature(uint32_t v) const {
     if (kind[v] == VertexKind::Complex || kind[v] == VertexKind::Dead) return 0;
-    const Vec3 p = point(v);
     double angles = 0;
-    for_each_outgoing(v, [&](uint32_t h) {
-        const Vec3 a = sub(point(dest(h)), p), b = sub(point(origin[prev(h)]), p);
-        angles += std::atan2(norm(cross(a, b)), dot(a, b));
-    });
+    for_each_outgoing(v, [&](uint32_t h) { angles += angle[h]; });
     const double full = is_boundary_vertex(v) ? std::numbers::pi : 2 * std::numbers::pi;
     return std::abs(full - angles) / std::numbers::pi;
 }

@@ -69,6 +69,7 @@ struct WorkingMesh {
     std::vector<uint32_t> origin; // kNone for a retired slot
     std::vector<uint32_t> twin;
     std::vector<uint8_t> line; // boundary or feature edge
+    std::vector<float> angle;  // the triangle's angle at the half-edge's origin
 
     size_t live_triangles = 0;
     Limits limits;
@@ -97,6 +98,8 @@ struct WorkingMesh {
     size_t ring(uint32_t v, uint32_t* ids, size_t max) const;
 
     Vec3 triangle_normal(uint32_t t) const; // not normalised (length = 2 x area)
+    // Recomputes the three corner angles of slot t (after its corners moved or changed).
+    void update_angles(uint32_t t);
     // Points `out[v]` at the fan's first half-edge (the one without a twin, if any), starting
     // the search at outgoing half-edge `h`.
     void reset_out(uint32_t v, uint32_t h);
