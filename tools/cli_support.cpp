@@ -1,0 +1,59 @@
+#include "cli_support.h"
+
+#include "surface_io.h"
+
+#include <cstdio>
+#include <unistd.h>
+
+namespace ddsimp::cli {
+
+std::string join(const std::vector<std::string>& items, const std::string& separator) {
+    std::string out;
+    for (const std::string& item : items) {
+        if (!out.empty()) out += separator;
+        out += item;
+    }
+    return out;
+}
+
+std::string describe_fields(const Surface& surface) {
+    std::vector<std::string> names;
+    for (const Field& f : surface.fields)
+        names.push_back(f.components == 1 ? f.name
+                                          : f.name + "(" + std::to_string(f.components) + ")");
+    return names.empty() ? "none" : join(names);
+}
+
+void require_fields(const Surface& surface, const std::vector<std::string>& names,
+                    const std::string& path) {
+    for (const std::string& name : names)
+        if (surface.find_field(name) == nullptr)
+            throw io::IoError(path + " has no field '" + name +
+                              "' (fields: " + describe_fields(surface) + ")");
+}
+
+TerminalProgress::TerminalProgress(std::string label)
+    : label_(std::move(label)), active_(isatty(STDERR_FILENO) == 1) {}
+
+TerminalProgress::~TerminalProgress() {
+    if (active_ && shown_ >= 0) std::fprintf(stderr, "\r\033[K");
+}
+
+std::function<bool(double)> TerminalProgress::callback() {
+    if (!active_) return {};
+    return [this](double fraction) {
+        const int percent = int(fraction * 100.0);
+        if (percent != shown_) {
+            shown_ = percent;
+            std::fprintf(stderr, "\r%s %3d%%", label_.c_str(), percent);
+            std::fflush(stderr);
+        }
+        return true;
+    };
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+} // namespace ddsimp::cli

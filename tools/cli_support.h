@@ -1,0 +1,53 @@
+// Small pieces shared by the ddsimp subcommands: errors, field checks, progress on a terminal.
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <chrono>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ddsimp::cli {
+
+// A command line that parses but makes no sense ("--keep 2"); exit status 2.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Exit statuses of the ddsimp command.
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitInputError = 1; // missing, malformed or unsuitable input; I/O failure
+inline constexpr int kExitUsageError = 2; // the command line itself is wrong
+
+std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
+
+// "V(3), Temp, Pres" — the surface's fields, for messages.
+std::string describe_fields(const Surface& surface);
+
+// Throws io::IoError("<path> has no field 'X' (fields: ...)") for the first name not in `surface`.
+void require_fields(const Surface& surface, const std::vector<std::string>& names,
+                    const std::string& path);
+
+// Prints "label  42%" on stderr while a long run works, but only if stderr is a terminal.
+class TerminalProgress {
+public:
+    explicit TerminalProgress(std::string label);
+    ~TerminalProgress(); // clears the line
+    TerminalProgress(const TerminalProgress&) = delete;
+    TerminalProgress& operator=(const TerminalProgress&) = delete;
+
+    // A callback for ddsimp::Options::progress (never cancels); empty if stderr is no terminal.
+    std::function<bool(double)> callback();
+
+private:
+    std::string label_;
+    bool active_;
+    int shown_ = -1;
+};
+
+// Seconds elapsed since `start`, by the steady clock.
+double seconds_since(std::chrono::steady_clock::time_point start);
+
+} // namespace ddsimp::cli

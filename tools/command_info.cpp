@@ -1,0 +1,125 @@
+// ddsimp info IN: sizes, fields with their ranges, and the topology simplification keeps.
+#include "cli_support.h"
+#include "commands.h"
+#include "surface_io.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace ddsimp::cli {
+
+namespace {
+
+struct InfoArgs {
+    std::string input;
+    bool json = false;
+};
+
+struct FieldRange {
+    std::vector<double> min, max; // per component
+};
+
+FieldRange range_of(const Field& f, size_t vertices) {
+    FieldRange r;
+    r.min.assign(size_t(f.components), INFINITY);
+    r.max.assign(size_t(f.components), -INFINITY);
+    for (size_t v = 0; v < vertices; ++v)
+        for (int c = 0; c < f.components; ++c) {
+            const double x = f.values[v * f.components + c];
+            r.min[c] = std::min(r.min[c], x);
+            r.max[c] = std::max(r.max[c], x);
+        }
+    return r;
+}
+
+std::string format_range(const FieldRange& r) {
+    std::string out;
+    char buffer[96];
+    for (size_t c = 0; c < r.min.size(); ++c) {
+        std::snprintf(buffer, sizeof buffer, "%s[%g, %g]", c ? " " : "", r.min[c], r.max[c]);
+        out += buffer;
+    }
+    return out;
+}
+
+int run_info(const InfoArgs& args) {
+    const Surface surface = io::read_surface(args.input);
+    Surface repaired = surface;
+    RepairReport repairs;
+    Topology topology;
+    try {
+        repairs = validate(repaired);
+        topology = analyze_topology(repaired);
+    } catch (const InputError& e) {
+        throw io::IoError(args.input + ": " + e.what());
+    }
+
+    if (args.json) {
+        nlohmann::json fields = nlohmann::json::array();
+        for (const Field& f : surface.fields) {
+            const FieldRange r = range_of(f, surface.vertex_count());
+            fields.push_back(
+                {{"name", f.name}, {"components", f.components}, {"min", r.min}, {"max", r.max}});
+        }
+        nlohmann::json out = {
+            {"input", args.input},
+            {"vertices", surface.vertex_count()},
+            {"triangles", surface.triangle_count()},
+            {"fields", fields},
+            {"topology",
+             {{"vertices", topology.vertices},
+              {"triangles", topology.triangles},
+              {"edges", topology.edges},
+              {"boundary_edges", topology.boundary_edges},
+              {"boundary_loops", topology.boundary_loops},
+              {"components", topology.components},
+              {"euler_characteristic", topology.euler_characteristic},
+              {"nonmanifold_edges", topology.nonmanifold_edges},
+              {"nonmanifold_vertices", topology.nonmanifold_vertices}}},
+            {"repairs",
+             {{"degenerate_triangles_dropped", repairs.degenerate_triangles_dropped},
+              {"duplicate_triangles_dropped", repairs.duplicate_triangles_dropped},
+              {"unused_vertices", repairs.unused_vertices}}},
+        };
+        std::printf("%s\n", out.dump().c_str());
+        return kExitOk;
+    }
+
+    std::printf("%s\n", args.input.c_str());
+    std::printf("  vertices   %zu (%zu used by triangles)\n", surface.vertex_count(),
+                topology.vertices);
+    std::printf("  triangles  %zu", surface.triangle_count());
+    if (repairs.degenerate_triangles_dropped || repairs.duplicate_triangles_dropped)
+        std::printf(" (%zu degenerate and %zu duplicate; the rest is analysed)",
+                    repairs.degenerate_triangles_dropped, repairs.duplicate_triangles_dropped);
+    std::printf("\n  fields     %zu\n", surface.fields.size());
+    for (const Field& f : surface.fields)
+        std::printf("    %-16s %d component%s %s\n", f.name.c_str(), f.components,
+                    f.components == 1 ? " " : "s",
+                    format_range(range_of(f, surface.vertex_count())).c_str());
+    std::printf("  edges      %zu (%zu boundary, %zu non-manifold)\n", topology.edges,
+                topology.boundary_edges, topology.nonmanifold_edges);
+    std::printf("  euler characteristic  %lld\n", topology.euler_characteristic);
+    std::printf("  boundary loops        %zu\n", topology.boundary_loops);
+    std::printf("  components            %zu\n", topology.components);
+    std::printf("  non-manifold vertices %zu\n", topology.nonmanifold_vertices);
+    return kExitOk;
+}
+
+} // namespace
+
+Command add_info_command(CLI::App& app) {
+    auto args = std::make_shared<InfoArgs>();
+    CLI::App* sub = app.add_subcommand("info", "Describe a surface: sizes, fields, topology");
+    sub->add_option("input", args->input, "Surface file (.vtk .vtp .ply .obj .off .stl)")
+        ->required();
+    sub->add_flag("--json", args->json, "Print one JSON object");
+    return {sub, [args] { return run_info(*args); }};
+}
+
+} // namespace ddsimp::cli

@@ -1,0 +1,82 @@
+#include "vtk_files.h"
+
+#include "surface_io.h"
+#include "vtk_messages.h"
+#include "vtk_surface.h"
+
+#include <vtkDataSet.h>
+#include <vtkDataSetReader.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataWriter.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+namespace ddsimp::io {
+
+namespace {
+
+Surface read_legacy(const std::string& path, const std::string& context) {
+    VtkMessageCapture messages;
+    auto reader = vtkSmartPointer<vtkDataSetReader>::New();
+    reader->SetFileName(path.c_str());
+    // Without these the legacy reader keeps only the first array of each attribute kind.
+    reader->ReadAllScalarsOn();
+    reader->ReadAllVectorsOn();
+    reader->ReadAllNormalsOn();
+    reader->ReadAllTensorsOn();
+    reader->ReadAllColorScalarsOn();
+    reader->ReadAllTCoordsOn();
+    reader->ReadAllFieldsOn();
+    reader->Update();
+    vtkDataSet* data = reader->GetOutput();
+    if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
+    if (data == nullptr) throw IoError(context + ": not a VTK legacy data set");
+    return surface_from_dataset(data, context);
+}
+
+Surface read_xml_polydata(const std::string& path, const std::string& context) {
+    VtkMessageCapture messages;
+    auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
+    if (!reader->CanReadFile(path.c_str()))
+        throw IoError(context + ": not a VTK XML PolyData file");
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
+    return surface_from_dataset(reader->GetOutput(), context);
+}
+
+} // namespace
+
+Surface read_vtk_file(const std::string& path, const std::string& extension) {
+    const std::string context = "cannot read " + path;
+    return extension == ".vtp" ? read_xml_polydata(path, context) : read_legacy(path, context);
+}
+
+void write_vtk_file(const Surface& surface, const std::string& path, const std::string& extension) {
+    const std::string context = "cannot write " + path;
+    VtkMessageCapture messages;
+    vtkSmartPointer<vtkPolyData> poly = polydata_from_surface(surface);
+    int ok = 0;
+    if (extension == ".vtp") {
+        auto writer = vtkSmartPointer<vtkXMLPolyDataWriter>::New();
+        writer->SetFileName(path.c_str());
+        writer->SetInputData(poly);
+        writer->SetDataModeToAppended();
+        writer->EncodeAppendedDataOff();
+        writer->SetCompressorTypeToZLib();
+        writer->SetHeaderTypeToUInt64();
+        ok = writer->Write();
+    } else {
+        auto writer = vtkSmartPointer<vtkPolyDataWriter>::New();
+        writer->SetFileName(path.c_str());
+        writer->SetInputData(poly);
+        writer->SetFileTypeToBinary();
+        writer->SetFileVersion(vtkDataWriter::VTK_LEGACY_READER_VERSION_4_2);
+        writer->SetHeader("ddsimp surface");
+        ok = writer->Write();
+    }
+    if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
+    if (!ok) throw IoError(context + ": the VTK writer failed");
+}
+
+} // namespace ddsimp::io

@@ -1,0 +1,15 @@
+// Surfaces in VTK's file formats (internal to ddsimp_tools; use surface_io.h).
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <string>
+
+namespace ddsimp::io {
+
+// Legacy .vtk (POLYDATA or UNSTRUCTURED_GRID of triangles, ASCII or binary) or XML .vtp.
+Surface read_vtk_file(const std::string& path, const std::string& extension);
+// Legacy .vtk (binary POLYDATA, file version 4.2 for older readers) or XML .vtp (zlib, raw).
+void write_vtk_file(const Surface& surface, const std::string& path, const std::string& extension);
+
+} // namespace ddsimp::io

@@ -1,0 +1,31 @@
+// Conversion between ddsimp::Surface and VTK data sets (internal to ddsimp_tools).
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <vtkSmartPointer.h>
+
+#include <string>
+#include <vector>
+
+class vtkDataSet;
+class vtkPointData;
+class vtkPolyData;
+
+namespace ddsimp::io {
+
+// The triangles of a poly data or unstructured grid as a surface, with the numeric point-data
+// arrays as float fields (all, or those in `fields`, in that order). Throws IoError("<context>:
+// ...") naming the first cell that is not a triangle (triangle strips are split into triangles).
+Surface surface_from_dataset(vtkDataSet* data, const std::string& context,
+                             const std::vector<std::string>& fields = {});
+
+// Appends the numeric point-data arrays (bit and string arrays skipped) as float fields; if
+// `names` is not empty, only those, in that order (IoError for a missing one).
+void append_point_fields(vtkPointData* point_data, Surface& surface, const std::string& context,
+                         const std::vector<std::string>& names = {});
+
+// The surface as poly data: float points, one triangle cell per triangle, fields as float arrays.
+vtkSmartPointer<vtkPolyData> polydata_from_surface(const Surface& surface);
+
+} // namespace ddsimp::io
