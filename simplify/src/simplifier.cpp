@@ -117,26 +117,36 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) mesh_.classify(changed[i]);
     for (size_t i = 0; i < count; ++i) refresh_weight(changed[i]);
     ++stamp_now_;
-    for (size_t i = 0; i < count; ++i) {
-        stamp_[changed[i]] = stamp_now_;
-        refresh_key(changed[i]);
+    for (size_t i = 0; i < count; ++i) stamp_[changed[i]] = stamp_now_;
+    if (options_.strategy != Strategy::EdgeCollapse) {
+        for (size_t i = 0; i < count; ++i) refresh_key(changed[i]);
+        return;
     }
-    if (options_.strategy != Strategy::EdgeCollapse) return;
-    auto lower = [&](uint32_t h, uint32_t other) {
-        if (stamp_[other] == stamp_now_ || !kinds_allow_collapse(h)) return;
-        const HeapKey key = collapse_key(h);
-        if (!heap_.contains(other) || key < heap_.key(other)) heap_.set(other, key);
-    };
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
-        if (mesh_.kind[v] == VertexKind::Complex || mesh_.kind[v] == VertexKind::Dead) continue;
-        uint32_t last = kNone;
-        mesh_.for_each_outgoing(v, [&](uint32_t h) {
-            lower(h, mesh_.dest(h));
-            last = h;
-        });
-        if (mesh_.twin[detail::prev(last)] == kNone)
-            lower(detail::prev(last), mesh_.origin[detail::prev(last)]);
+        HeapKey best;
+        if (mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead) {
+            // One pass over v's edges: v's own key, and lower keys of unchanged neighbours.
+            auto consider = [&](uint32_t h, uint32_t other) {
+                if (!kinds_allow_collapse(h)) return;
+                const HeapKey key = collapse_key(h);
+                if (key < best) best = key;
+                if (stamp_[other] != stamp_now_ &&
+                    (!heap_.contains(other) || key < heap_.key(other)))
+                    heap_.set(other, key);
+            };
+            uint32_t last = kNone;
+            mesh_.for_each_outgoing(v, [&](uint32_t h) {
+                consider(h, mesh_.dest(h));
+                last = h;
+            });
+            if (mesh_.twin[detail::prev(last)] == kNone)
+                consider(detail::prev(last), mesh_.origin[detail::prev(last)]);
+        }
+        if (std::isinf(best.weight))
+            heap_.erase(v);
+        else
+            heap_.set(v, best);
     }
 }
 
