@@ -96,6 +96,52 @@ void drop_bad_triangles(Surface& s, RepairReport& report) {
                std::to_string(report.duplicate_triangles_dropped) + " duplicate triangles");
 }
 
+// Flips triangles so that neighbours across every two-triangle edge run it in opposite
+// directions, walking each component breadth-first from its lowest-numbered triangle.
+void orient_consistently(Surface& s, RepairReport& report) {
+    const size_t nv = s.vertex_count(), nt = s.triangle_count();
+    std::vector<uint32_t> first(nv + 1, 0);
+    for (uint32_t v : s.triangles) ++first[v + 1];
+    for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+    std::vector<uint32_t> star(s.triangles.size()), fill(first.begin(), first.end() - 1);
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c) star[fill[s.triangles[3 * t + c]]++] = t;
+
+    auto has = [&](uint32_t t, uint32_t v) {
+        const uint32_t* c = &s.triangles[3 * size_t(t)];
+        return c[0] == v || c[1] == v || c[2] == v;
+    };
+    // Does triangle t run the edge a -> b?
+    auto runs = [&](uint32_t t, uint32_t a, uint32_t b) {
+        const uint32_t* c = &s.triangles[3 * size_t(t)];
+        return (c[0] == a && c[1] == b) || (c[1] == a && c[2] == b) || (c[2] == a && c[0] == b);
+    };
+    std::vector<uint8_t> seen(nt, 0);
+    std::vector<uint32_t> queue;
+    for (uint32_t root = 0; root < nt; ++root) {
+        if (seen[root]) continue;
+        seen[root] = 1;
+        queue.assign(1, root);
+        for (size_t q = 0; q < queue.size(); ++q) {
+            const uint32_t t = queue[q];
+            for (int c = 0; c < 3; ++c) {
+                const uint32_t a = s.triangles[3 * t + c], b = s.triangles[3 * t + (c + 1) % 3];
+                uint32_t other = 0, sharing = 0;
+                for (uint32_t k = first[a]; k < first[a + 1]; ++k)
+                    if (star[k] != t && has(star[k], b)) other = star[k], ++sharing;
+                if (sharing != 1 || seen[other]) continue; // boundary, non-manifold or done
+                seen[other] = 1;
+                if (runs(other, a, b)) {
+                    std::swap(s.triangles[3 * size_t(other) + 1],
+                              s.triangles[3 * size_t(other) + 2]);
+                    ++report.triangles_flipped;
+                }
+                queue.push_back(other);
+            }
+        }
+    }
+}
+
 } // namespace
 
 RepairReport validate(Surface& surface) {
@@ -105,6 +151,7 @@ RepairReport validate(Surface& surface) {
     check_indices(surface);
     check_fields(surface);
     drop_bad_triangles(surface, report);
+    orient_consistently(surface, report);
     std::vector<uint8_t> used(surface.vertex_count(), 0);
     for (uint32_t v : surface.triangles) used[v] = 1;
     report.unused_vertices = size_t(std::count(used.begin(), used.end(), 0));

@@ -110,7 +110,10 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     plan.ring_size = n;
     if (n < (plan.boundary ? 2u : 3u)) return false;
 
-    // Which ring vertices are already joined by an edge (outside the star).
+    // Which ring vertices are already joined by an edge (outside the star). A complex vertex's
+    // neighbours cannot all be listed, so its neighbourhood is left alone.
+    for (size_t i = 0; i < n; ++i)
+        if (mesh_.kind[plan.ring[i]] == VertexKind::Complex) return false;
     uint64_t adjacent[kMaxValence] = {};
     uint32_t neighbours[kMaxValence];
     for (size_t i = 0; i < n; ++i) {

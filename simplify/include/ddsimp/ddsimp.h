@@ -62,13 +62,16 @@ struct RepairReport {
     size_t degenerate_triangles_dropped = 0; // a triangle that names one vertex twice
     size_t duplicate_triangles_dropped = 0;  // same three vertices as an earlier triangle
     size_t unused_vertices = 0;              // referenced by no triangle (not in any output)
+    size_t triangles_flipped = 0;            // turned to agree with their neighbours' orientation
 };
 
 // Checks a surface and repairs what has one obvious repair, in place:
 // - rejected (InputError): no triangles; positions not a multiple of 3 or triangles not a multiple
 //   of 3; a non-finite coordinate; an index out of range; a field with components < 1, an empty
 //   or repeated name, the wrong number of values, or a non-finite value.
-// - repaired: degenerate and duplicate triangles are dropped (the first copy is kept, in order).
+// - repaired: degenerate and duplicate triangles are dropped (the first copy is kept, in order);
+//   triangles are flipped where needed so that every edge-connected component is consistently
+//   oriented like its first triangle (where the surface is orientable).
 RepairReport validate(Surface& surface);
 
 // ---------------------------------------------------------------------------------------------
