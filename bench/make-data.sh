@@ -13,14 +13,14 @@
 #   DDSIMP_SHARED_DATA  the shared data directory (default: ../shared/data beside the repository)
 set -euo pipefail
 
-readonly ISO_1M=117 RESAMPLE_1M=3
-readonly ISO_100K=127
+readonly ISO_1M=127 RESAMPLE_1M=3
+readonly ISO_100K=122
 readonly MIN_TRIANGLES_1M=1000000
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
 data="$here/data"
-volume="${DDSIMP_SHARED_DATA:-$root/../shared/data}/volumes/carotid.vtk"
+volume="${DDSIMP_SHARED_DATA:-$(cd "$root/.." && pwd)/shared/data}/volumes/carotid.vtk"
 
 force=false
 case "${1:-}" in
