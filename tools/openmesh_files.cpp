@@ -1,6 +1,7 @@
 #include "openmesh_files.h"
 
 #include "ddsimp/openmesh.h"
+#include "file_header_checks.h"
 #include "surface_io.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
@@ -10,10 +11,7 @@
 
 #include <cctype>
 #include <cstdint>
-#include <fstream>
-#include <map>
 #include <optional>
-#include <sstream>
 
 namespace ddsimp::io {
 
@@ -36,6 +34,11 @@ public:
         }
         return mesh_.new_face();
     }
+    // Texture coordinates are not kept; ImporterT's versions walk the face's (absent) halfedges.
+    void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
+                            const std::vector<OpenMesh::Vec2f>&) override {}
+    void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
+                            const std::vector<OpenMesh::Vec3f>&) override {}
     // Readers must hand polygons over as they are: we report them rather than triangulate.
     bool is_triangle_mesh() const override { return false; }
     size_t n_faces() const override { return faces_; }
@@ -71,56 +74,6 @@ public:
 private:
     const Surface& surface_;
 };
-
-// The number of faces the file says it holds, to catch a reader that skips some silently.
-std::optional<size_t> declared_face_count(const std::string& path, const std::string& extension) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    if (extension == ".off") {
-        std::string word;
-        in >> word; // "OFF", or a variant such as "COFF"; the two counts follow
-        if (word.size() < 3 || word.substr(word.size() - 3) != "OFF") return std::nullopt;
-        while (in >> std::ws && in.peek() == '#') in.ignore(SIZE_MAX, '\n');
-        size_t vertices = 0, faces = 0;
-        if (!(in >> vertices >> faces)) return std::nullopt;
-        return faces;
-    }
-    if (extension == ".ply") {
-        std::string line;
-        while (std::getline(in, line)) {
-            std::istringstream words(line);
-            std::string a, b;
-            size_t n;
-            if (words >> a >> b >> n && a == "element" && b == "face") return n;
-            if (line.rfind("end_header", 0) == 0) break;
-        }
-        return std::nullopt;
-    }
-    if (extension == ".stl") {
-        char header[80];
-        uint32_t count = 0;
-        if (in.read(header, 80) && in.read(reinterpret_cast<char*>(&count), 4)) {
-            in.seekg(0, std::ios::end);
-            const auto size = size_t(in.tellg());
-            if (size == 84 + 50 * size_t(count)) return count; // binary STL
-        }
-        in.clear();
-        in.seekg(0);
-        size_t facets = 0;
-        std::string word;
-        while (in >> word)
-            if (word == "facet") ++facets;
-        return facets;
-    }
-    if (extension == ".obj") {
-        size_t faces = 0;
-        std::string line;
-        while (std::getline(in, line))
-            if (line.size() > 1 && line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) ++faces;
-        return faces;
-    }
-    return std::nullopt;
-}
 
 // Vertex properties "name[0]" .. "name[k-1]" (how we write a k-component field to PLY) become
 // one field again.
@@ -181,6 +134,8 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
     }
     if (!ok)
         throw IoError(context + ": OpenMesh's " + extension + " reader failed (malformed file?)");
+    if (std::string problem = check_file_body(path, extension); !problem.empty())
+        throw IoError(context + ": " + problem);
     if (auto polygon = importer.first_polygon())
         throw IoError(context + ": face " + std::to_string(polygon->first) + " has " +
                       std::to_string(polygon->second) + " vertices; only triangles are supported");

@@ -1,5 +1,6 @@
 #include "vtk_messages.h"
 
+#include <vtkLogger.h>
 #include <vtkObjectFactory.h>
 #include <vtkOutputWindow.h>
 #include <vtkSmartPointer.h>
@@ -45,6 +46,8 @@ struct VtkMessageCapture::State {
 };
 
 VtkMessageCapture::VtkMessageCapture() : state_(std::make_unique<State>()) {
+    // VTK 9 logs every error through vtkLogger before the output window sees it.
+    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
     state_->previous = vtkOutputWindow::GetInstance();
     state_->window = vtkSmartPointer<CollectingOutputWindow>::New();
     vtkOutputWindow::SetInstance(state_->window);

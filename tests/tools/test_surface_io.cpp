@@ -1,0 +1,197 @@
+// read_surface / write_surface: round trips through every writable format, and the errors.
+#include "tools_test_support.h"
+
+#include "surface_io.h"
+
+#include <fstream>
+#include <iterator>
+
+using namespace ddsimp;
+using namespace ddsimp::tools_test;
+
+namespace {
+
+std::string file_bytes(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_text(const std::string& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
+
+// The message of the IoError that `read` throws ("" if none is thrown).
+template <class F> std::string io_error_of(F&& action) {
+    try {
+        action();
+    } catch (const io::IoError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+bool holds_fields(const std::string& extension) {
+    return extension == ".vtk" || extension == ".vtp" || extension == ".ply";
+}
+
+} // namespace
+
+class RoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RoundTrip, KeepsCoordinatesTrianglesAndFieldsWhereTheFormatHoldsThem) {
+    ScratchDir dir;
+    const std::string ext = GetParam();
+    const Surface s = square_with_fields();
+    const std::string path = dir.file("square" + ext);
+    io::write_surface(s, path);
+    const Surface back = io::read_surface(path);
+
+    EXPECT_EQ(back.positions, s.positions); // exact: binary formats, or 9 digits in text
+    EXPECT_EQ(back.triangles, s.triangles);
+    if (!holds_fields(ext)) {
+        EXPECT_TRUE(back.fields.empty());
+        return;
+    }
+    ASSERT_EQ(back.fields.size(), s.fields.size());
+    for (size_t f = 0; f < s.fields.size(); ++f) {
+        EXPECT_EQ(back.fields[f].name, s.fields[f].name);
+        EXPECT_EQ(back.fields[f].components, s.fields[f].components);
+        EXPECT_EQ(back.fields[f].values, s.fields[f].values);
+    }
+}
+
+TEST_P(RoundTrip, NonManifoldSurfaceIsWrittenAndReadAsItIs) {
+    ScratchDir dir;
+    const std::string path = dir.file("fin" + GetParam());
+    io::write_surface(fin_of_three(), path);
+    const Surface back = io::read_surface(path);
+    EXPECT_EQ(back.triangles, fin_of_three().triangles);
+    EXPECT_EQ(back.positions, fin_of_three().positions);
+}
+
+TEST_P(RoundTrip, WritingTwiceGivesTheSameBytes) {
+    ScratchDir dir;
+    const std::string a = dir.file("a" + GetParam()), b = dir.file("b" + GetParam());
+    io::write_surface(square_with_fields(), a);
+    io::write_surface(square_with_fields(), b);
+    EXPECT_EQ(file_bytes(a), file_bytes(b));
+    EXPECT_FALSE(file_bytes(a).empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(WritableFormats, RoundTrip,
+                         ::testing::Values(".vtk", ".vtp", ".ply", ".obj", ".off"),
+                         [](const auto& info) { return info.param.substr(1); });
+
+TEST(SurfaceIo, RealSurfaceSurvivesVtkToPlyToVtp) {
+    ScratchDir dir;
+    const Surface s = io::read_surface(sample_surface());
+    io::write_surface(s, dir.file("s.ply"));
+    io::write_surface(io::read_surface(dir.file("s.ply")), dir.file("s.vtp"));
+    const Surface back = io::read_surface(dir.file("s.vtp"));
+    EXPECT_EQ(back.positions, s.positions);
+    EXPECT_EQ(back.triangles, s.triangles);
+    ASSERT_EQ(back.fields.size(), 7u);
+    for (size_t f = 0; f < 7; ++f) {
+        EXPECT_EQ(back.fields[f].name, s.fields[f].name);
+        EXPECT_EQ(back.fields[f].values, s.fields[f].values);
+    }
+}
+
+TEST(SurfaceIo, FieldNamesWithSpacesSurvivePlyAsUnderscores) {
+    ScratchDir dir;
+    Surface s = square_with_fields();
+    s.fields[0].name = "Volume Fraction";
+    io::write_surface(s, dir.file("s.ply"));
+    const Surface back = io::read_surface(dir.file("s.ply"));
+    ASSERT_EQ(back.fields.size(), 3u);
+    EXPECT_EQ(back.fields[0].name, "Volume_Fraction");
+    EXPECT_EQ(back.fields[0].values, s.fields[0].values);
+}
+
+TEST(SurfaceIoErrors, MissingFileNamesTheFile) {
+    const std::string message = io_error_of([] { io::read_surface("/nonexistent/x.vtk"); });
+    EXPECT_NE(message.find("cannot read /nonexistent/x.vtk"), std::string::npos) << message;
+    EXPECT_NE(message.find("no such file"), std::string::npos) << message;
+}
+
+TEST(SurfaceIoErrors, UnknownExtension) {
+    EXPECT_NE(io_error_of([] { io::read_surface("x.xyz"); }).find("unknown extension"),
+              std::string::npos);
+    ScratchDir dir;
+    EXPECT_NE(io_error_of([&] {
+                  io::write_surface(square_with_fields(), dir.file("x.stl"));
+              }).find("unknown extension"),
+              std::string::npos);
+}
+
+TEST(SurfaceIoErrors, MalformedLegacyVtk) {
+    ScratchDir dir;
+    const std::string path = dir.file("broken.vtk");
+    write_text(path, "# vtk DataFile Version 3.0\nbroken\nASCII\nDATASET POLYDATA\nPOINTS 3 "
+                     "float\n0 0 0 1 0\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_EQ(message.rfind("cannot read " + path + ": ", 0), 0u) << message;
+}
+
+TEST(SurfaceIoErrors, GarbageVtkFile) {
+    ScratchDir dir;
+    const std::string path = dir.file("garbage.vtk");
+    write_text(path, "this is not a VTK file at all\n");
+    EXPECT_EQ(io_error_of([&] { io::read_surface(path); }).rfind("cannot read " + path, 0), 0u);
+}
+
+TEST(SurfaceIoErrors, QuadCellInVtkIsNamed) {
+    ScratchDir dir;
+    const std::string path = dir.file("quad.vtk");
+    write_text(path, "# vtk DataFile Version 3.0\nquad\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n"
+                     "0 0 0 1 0 0 1 1 0 0 1 0 2 0 0\nPOLYGONS 2 9\n3 0 1 4\n4 0 1 2 3\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_NE(message.find("cell 1 is a polygon with 4 points"), std::string::npos) << message;
+}
+
+TEST(SurfaceIoErrors, QuadInUnstructuredGridIsNamed) {
+    ScratchDir dir;
+    const std::string path = dir.file("grid.vtk");
+    write_text(path, "# vtk DataFile Version 3.0\ngrid\nASCII\nDATASET UNSTRUCTURED_GRID\n"
+                     "POINTS 5 float\n0 0 0 1 0 0 1 1 0 0 1 0 2 0 0\nCELLS 2 9\n3 0 1 4\n"
+                     "4 0 1 2 3\nCELL_TYPES 2\n5\n9\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_NE(message.find("cell 1 is a vtkQuad"), std::string::npos) << message;
+}
+
+TEST(SurfaceIoErrors, TruncatedOffNamesTheMissingFaces) {
+    ScratchDir dir;
+    const std::string path = dir.file("short.off");
+    write_text(path, "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_EQ(message.rfind("cannot read " + path + ": ", 0), 0u) << message;
+}
+
+TEST(SurfaceIoErrors, QuadFaceInOffIsNamed) {
+    ScratchDir dir;
+    const std::string path = dir.file("quad.off");
+    write_text(path, "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 4\n4 0 1 2 3\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_NE(message.find("face 1 has 4 vertices"), std::string::npos) << message;
+}
+
+TEST(SurfaceIoErrors, EmptyFile) {
+    ScratchDir dir;
+    const std::string path = dir.file("empty.ply");
+    write_text(path, "");
+    EXPECT_NE(io_error_of([&] { io::read_surface(path); }).find("empty"), std::string::npos);
+}
+
+TEST(SurfaceIoErrors, UnwritableDirectory) {
+    const std::string message =
+        io_error_of([] { io::write_surface(square_with_fields(), "/nonexistent/dir/x.vtp"); });
+    EXPECT_EQ(message.rfind("cannot write /nonexistent/dir/x.vtp: ", 0), 0u) << message;
+}
+
+TEST(SurfaceIoErrors, WrongFieldLengthIsRefusedBeforeWriting) {
+    ScratchDir dir;
+    Surface s = square_with_fields();
+    s.fields[1].values.pop_back();
+    const std::string message = io_error_of([&] { io::write_surface(s, dir.file("x.vtk")); });
+    EXPECT_NE(message.find("field 'V'"), std::string::npos) << message;
+}
