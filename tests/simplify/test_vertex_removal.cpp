@@ -1,0 +1,138 @@
+// Vertex removal: the output's vertices are a subset of the input's, positions and data exact;
+// the hole is re-triangulated without folds.
+#include "test_surfaces.h"
+
+namespace ddsimp::test {
+namespace {
+
+Options removal() {
+    Options o;
+    o.strategy = Strategy::VertexRemoval;
+    return o;
+}
+
+// Every output vertex is a distinct input vertex: bit-identical position and bit-identical values
+// in every field.
+::testing::AssertionResult exact_subset(const Surface& in, const Surface& out) {
+    auto lookup = vertex_lookup(in);
+    std::set<uint32_t> used;
+    for (size_t v = 0; v < out.vertex_count(); ++v) {
+        auto it =
+            lookup.find({out.positions[3 * v], out.positions[3 * v + 1], out.positions[3 * v + 2]});
+        if (it == lookup.end())
+            return ::testing::AssertionFailure()
+                   << "output vertex " << v << " is not an input vertex";
+        if (!used.insert(it->second).second)
+            return ::testing::AssertionFailure()
+                   << "input vertex " << it->second << " appears twice";
+        for (const Field& f : in.fields) {
+            const Field* g = out.find_field(f.name);
+            if (!g || g->components != f.components)
+                return ::testing::AssertionFailure() << "field " << f.name << " not carried";
+            if (std::memcmp(&g->values[v * f.components], &f.values[it->second * f.components],
+                            sizeof(float) * size_t(f.components)) != 0)
+                return ::testing::AssertionFailure()
+                       << "field " << f.name << " changed at input vertex " << it->second;
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
+Surface data_grid() {
+    Surface s = with_test_fields(grid(30, 30));
+    add_field(s, "step", 1,
+              [](const Vec3& p) { return std::vector<double>{p[0] < 0.5 ? 0.0 : 1.0}; });
+    add_field(s, "wave", 2, [](const Vec3& p) {
+        return std::vector<double>{std::sin(10 * p[0]) * 1e3, std::cos(7 * p[1]) * 1e-3};
+    });
+    return s;
+}
+
+TEST(VertexRemoval, OutputIsAnExactSubsetOfTheInput) {
+    for (const Surface& in :
+         {data_grid(), with_test_fields(icosphere(3)), with_test_fields(torus(32, 16))})
+        for (double alpha : {0.0, 0.5, 1.0}) {
+            Options o = removal();
+            o.alpha = alpha;
+            o.keep_fraction = 0.1;
+            Result r = simplify(in, o);
+            EXPECT_TRUE(r.target_reached);
+            EXPECT_TRUE(exact_subset(in, r.surface)) << "alpha " << alpha;
+            EXPECT_TRUE(fields_carried(in, r.surface));
+        }
+}
+
+// Also when run as far as it goes, and for the progressive record's levels.
+TEST(VertexRemoval, ExactSubsetAtEveryLevel) {
+    Surface in = data_grid();
+    Options o = removal();
+    o.keep_fraction = 0.0;
+    EXPECT_TRUE(exact_subset(in, simplify(in, o).surface));
+    ProgressiveRecord rec = ProgressiveRecord::build(in, o);
+    for (size_t n : {size_t(1500), size_t(700), size_t(100), size_t(10)})
+        EXPECT_TRUE(exact_subset(in, rec.level(n))) << n;
+}
+
+// Euler on a closed manifold: removing a vertex of degree d removes d triangles and d edges and
+// adds d - 2 triangles and d - 3 edges: one vertex, three edges and two triangles less.
+TEST(VertexRemoval, EachRemovalTakesTwoTrianglesOnAClosedSurface) {
+    Options o = removal();
+    o.keep_fraction = 0.2;
+    Result r = simplify(with_test_fields(torus(32, 16)), o);
+    EXPECT_EQ(r.triangles_out + 2 * r.operations, r.triangles_in);
+    EXPECT_EQ(r.surface.vertex_count() + r.operations, size_t(32 * 16));
+}
+
+// A flat octagon fan: the centre is interior and flat, removable; its octagonal hole is
+// re-triangulated with 8 - 2 = 6 triangles. The rim vertices are boundary corners (45 degrees >
+// 20) and stay. Result: exactly the 8 rim vertices, 6 triangles, all facing +z, area unchanged
+// (the octagon: 8 * 1/2 sin 45 = 2 sqrt 2).
+TEST(VertexRemoval, OctagonFanLosesItsCentre) {
+    Surface in = with_test_fields(fan(8));
+    Options o = removal();
+    o.keep_fraction = 0.0;
+    Result r = simplify(in, o);
+    EXPECT_EQ(r.stop, StopReason::NothingRemovable);
+    EXPECT_EQ(r.triangles_out, 6u);
+    EXPECT_EQ(r.operations, 1u);
+    ASSERT_EQ(r.surface.vertex_count(), 8u);
+    EXPECT_FALSE(has_vertex_at(r.surface, {0, 0, 0}));
+    for (size_t t = 0; t < r.surface.triangle_count(); ++t)
+        EXPECT_GT(triangle_normal(r.surface, t)[2], 0);
+    EXPECT_NEAR(total_area(r.surface), 2 * std::sqrt(2.0), 1e-5);
+    EXPECT_TRUE(exact_subset(in, r.surface));
+}
+
+// max_normal_turn: a hexagonal pyramid with its apex 0.3 above a unit hexagon. Each face rises
+// over the apothem cos 30 = 0.866 by 0.3: tilted atan(0.3 / 0.866) = 19.1 degrees from +z.
+// Removing the apex replaces them with flat triangles (normal +z): a turn of 19.1 degrees.
+// Allowed with the default 60, refused with 10.
+TEST(VertexRemoval, MaxNormalTurnRefusesLargeTurns) {
+    Surface in = with_test_fields(fan(6, 0.3));
+    Options o = removal();
+    o.keep_fraction = 0.0;
+    Result allowed = simplify(in, o);
+    EXPECT_EQ(allowed.triangles_out, 4u);
+    EXPECT_FALSE(has_vertex_at(allowed.surface, {0, 0, 0.3}));
+    o.max_normal_turn = 10.0;
+    Result refused = simplify(in, o);
+    EXPECT_EQ(refused.triangles_out, 6u);
+    EXPECT_EQ(refused.stop, StopReason::NothingRemovable);
+    EXPECT_TRUE(has_vertex_at(refused.surface, {0, 0, 0.3}));
+}
+
+// Vertices of a grid's straight sides are removable (turn 0), the corners are not: run as far as
+// it goes, the square grid ends with its 4 corners and 2 triangles.
+TEST(VertexRemoval, SquareGridEndsAsTwoTriangles) {
+    Surface in = with_test_fields(grid(12, 12));
+    Options o = removal();
+    o.keep_fraction = 0.0;
+    Result r = simplify(in, o);
+    EXPECT_EQ(r.triangles_out, 2u);
+    EXPECT_EQ(r.surface.vertex_count(), 4u);
+    EXPECT_TRUE(exact_subset(in, r.surface));
+    EXPECT_NEAR(total_area(r.surface), 1.0, 1e-6);
+}
+
+} // namespace
+} // namespace ddsimp::test
