@@ -33,7 +33,7 @@ bool Simplifier::kinds_allow_collapse(uint32_t h) const {
 
 HeapKey Simplifier::collapse_key(uint32_t h) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
-    return {weight_[a] + weight_[b], norm(sub(mesh_.point(a), mesh_.point(b)))};
+    return {weight_[a] + weight_[b], float(norm(sub(mesh_.point(a), mesh_.point(b))))};
 }
 
 HeapKey Simplifier::best_collapse_key(uint32_t v) const {
@@ -224,7 +224,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
 
 void Simplifier::step_collapse(uint32_t v) {
     heap_.erase(v);
-    const HeapKey next_best = heap_.empty() ? HeapKey{} : heap_.key(heap_.top());
+    const HeapKey next_best = heap_.empty() ? HeapKey{} : heap_.top_key();
 
     struct Candidate {
         HeapKey key;

@@ -86,8 +86,8 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     gradient_scale_ = sum_g > 0 ? double(counted) / sum_g : 0;
     weight_.assign(capacity, 0);
     for (uint32_t v = 0; v < n; ++v)
-        weight_[v] = options.alpha * curvature[v] * curvature_scale_ +
-                     (1 - options.alpha) * gradient[v] * gradient_scale_;
+        weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
+                           (1 - options.alpha) * gradient[v] * gradient_scale_);
     for (uint32_t v = 0; v < n; ++v) refresh_key(v);
 }
 
@@ -97,7 +97,7 @@ double Simplifier::weight_of(uint32_t v) const {
 }
 
 void Simplifier::refresh_weight(uint32_t v) {
-    weight_[v] = weight_of(v);
+    weight_[v] = float(weight_of(v));
 }
 
 void Simplifier::refresh_key(uint32_t v) {

@@ -63,13 +63,16 @@ private:
     bool plan_removal(uint32_t v, RemovalPlan& plan) const;
     bool triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
+    bool planar_triangulation(RemovalPlan& plan, const double (*xy)[2], const uint64_t* adjacent,
+                              const detail::Vec3& axis) const;
+    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) const;
     void apply_removal(const RemovalPlan& plan);
     void step_removal(uint32_t v);
 
     Options options_;
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
-    std::vector<double> weight_;
+    std::vector<float> weight_;
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     detail::IndexedHeap heap_;
     std::vector<uint32_t> stamp_;

@@ -35,7 +35,7 @@ HeapKey Simplifier::removal_key(uint32_t v) const {
     mesh_.for_each_outgoing(v, [&](uint32_t h) {
         shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
     });
-    return {weight_[v], shortest};
+    return {weight_[v], float(shortest)};
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
@@ -111,23 +111,34 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     if (n < (plan.boundary ? 2u : 3u)) return false;
 
     // Which ring vertices are already joined by an edge (outside the star). A complex vertex's
-    // neighbours cannot all be listed, so its neighbourhood is left alone.
-    for (size_t i = 0; i < n; ++i)
-        if (mesh_.kind[plan.ring[i]] == VertexKind::Complex) return false;
+    // neighbours cannot all be listed, but the other end of an edge can list it; between two
+    // complex vertices an edge is assumed, so no new edge is made there.
     uint64_t adjacent[kMaxValence] = {};
     uint32_t neighbours[kMaxValence];
+    uint64_t complex = 0;
     for (size_t i = 0; i < n; ++i) {
+        if (mesh_.kind[plan.ring[i]] == VertexKind::Complex) {
+            complex |= uint64_t(1) << i;
+            continue;
+        }
         const size_t m = mesh_.ring(plan.ring[i], neighbours, kMaxValence);
         if (m == 0) return false;
         for (size_t j = 0; j < m; ++j)
             for (size_t r = 0; r < n; ++r)
                 if (plan.ring[r] == neighbours[j]) adjacent[i] |= uint64_t(1) << r;
     }
+    for (size_t i = 0; i < n; ++i)
+        if (complex >> i & 1) {
+            adjacent[i] = complex;
+            for (size_t j = 0; j < n; ++j)
+                if (adjacent[j] >> i & 1) adjacent[i] |= uint64_t(1) << j;
+        }
 
     if (plan.boundary) {
         if (n == 2) return plan.outer_twin[0] != kNone; // an ear: its inner edge stays
         if (adjacent[n - 1] >> 0 & 1) return false;     // the new boundary edge exists already
     } else if (n == 3) {
+        if (complex) return false; // the far side of a complex edge cannot be seen
         // The one new triangle must not already exist on the far side (a tetrahedron).
         const uint32_t far = plan.outer_twin[0];
         if (far != kNone && mesh_.origin[prev(far)] == plan.ring[2]) return false;
@@ -148,6 +159,16 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         xy[i][0] = dot(d, e1), xy[i][1] = dot(d, e2);
     }
 
+    if (planar_triangulation(plan, xy, adjacent, axis)) return true;
+    // A star too curved to project flat may still be closed by a fan from one of its vertices
+    // (the half-edge collapse of v into it), checked in 3D instead.
+    plan.new_count = 0;
+    return fan_triangulation(plan, adjacent);
+}
+
+bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
+                                      const uint64_t* adjacent, const Vec3& axis) const {
+    const size_t n = plan.ring_size;
     uint8_t polygon[kMaxValence];
     const int fa = plan.feature_a, fb = plan.feature_b;
     const bool split = fa >= 0 && fb >= 0 && fb - fa >= 2 && size_t(fa + int(n) - fb) >= 2;
@@ -174,6 +195,47 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         if (dot(tn, axis) <= 0) return false;
     }
     return true;
+}
+
+bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) const {
+    const size_t n = plan.ring_size;
+    const Vec3 centre = mesh_.point(plan.vertex);
+    const double turn_cos = mesh_.limits.normal_turn_cos;
+    double best_shape = -1;
+    size_t best = n;
+    for (size_t j = 0; j < n; ++j) {
+        // On a boundary the fan must keep the new boundary edge; on a feature line, its edge.
+        if (plan.boundary && j != 0 && j != n - 1) continue;
+        if (plan.feature_a >= 0 && int(j) != plan.feature_a && int(j) != plan.feature_b) continue;
+        const Vec3 apex = mesh_.point(plan.ring[j]);
+        double worst = 1;
+        bool ok = true;
+        // Triangle (j, i, i + 1) replaces the star's (v, i, i + 1): v moves onto ring[j].
+        for (size_t k = 1; k + 1 < n && ok; ++k) {
+            const size_t i = (j + k) % n, i1 = (i + 1) % n;
+            if (plan.boundary && i == n - 1) break;
+            if (k >= 2 && (adjacent[j] >> i & 1)) ok = false; // the diagonal j-i exists
+            const Vec3 q = mesh_.point(plan.ring[i]), r = mesh_.point(plan.ring[i1]);
+            const Vec3 before = cross(sub(q, centre), sub(r, centre));
+            const Vec3 after = cross(sub(q, apex), sub(r, apex));
+            const double la = norm(after), lb = norm(before);
+            const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
+                               dot(sub(q, r), sub(q, r));
+            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb))
+                ok = false;
+            else
+                worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);
+        }
+        if (ok && worst > best_shape) best_shape = worst, best = j;
+    }
+    if (best == n) return false;
+    for (size_t k = 1; k + 1 < n; ++k) {
+        const size_t i = (best + k) % n, i1 = (i + 1) % n;
+        if (plan.boundary && i == n - 1) break;
+        uint8_t* t = plan.triangles[plan.new_count++];
+        t[0] = uint8_t(best), t[1] = uint8_t(i), t[2] = uint8_t(i1);
+    }
+    return plan.new_count == n - 2;
 }
 
 void Simplifier::apply_removal(const RemovalPlan& plan) {

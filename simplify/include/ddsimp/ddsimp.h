@@ -146,7 +146,9 @@ struct Options {
     // Fields that drive the gradient term; empty means all fields.
     std::vector<std::string> gradient_fields;
     // An edge whose dihedral angle exceeds this (degrees) is a feature edge; 180 disables features.
-    double feature_angle = 60.0;
+    // Off by default: isosurfaces of sampled data are full of sharp-looking dihedrals between
+    // slivers, which would pin most vertices. Turn it on for CAD-like parts (e.g. 45).
+    double feature_angle = 180.0;
     // A boundary or feature vertex is removed only where its line continues within this angle
     // (degrees) of straight.
     double line_tolerance = 20.0;
