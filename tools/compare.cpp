@@ -82,12 +82,14 @@ void measure(const Surface& from, const Surface& to, const std::vector<const Fie
              std::vector<Accumulator>& data) {
     const TriangleBvh bvh(to.positions, to.triangles);
     const std::vector<uint8_t> used = used_vertices(from);
-    std::vector<double> difference;
+    uint32_t hint = UINT32_MAX;
     for (size_t v = 0; v < from.vertex_count(); ++v) {
         if (!used[v]) continue;
         const double q[3] = {from.positions[3 * v], from.positions[3 * v + 1],
                              from.positions[3 * v + 2]};
-        const ClosestPoint hit = bvh.closest(q);
+        // Consecutive vertices are usually close, so the last answer is a good first guess.
+        const ClosestPoint hit = bvh.closest(q, hint);
+        hint = hit.triangle;
         distance.add(std::sqrt(hit.distance_squared));
         const uint32_t* corners = &to.triangles[3 * size_t(hit.triangle)];
         for (size_t f = 0; f < from_fields.size(); ++f) {

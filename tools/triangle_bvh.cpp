@@ -70,25 +70,48 @@ void closest_on_triangle(Vec p, Vec a, Vec b, Vec c, double w[3]) {
 
 } // namespace
 
+// A triangle while the tree is built: its box and centroid, sorted in place.
+struct TriangleBvh::Item {
+    float lo[3], hi[3], centroid[3];
+    uint32_t triangle;
+};
+
 TriangleBvh::TriangleBvh(const std::vector<float>& positions,
-                         const std::vector<uint32_t>& triangles)
-    : positions_(positions), triangles_(triangles) {
+                         const std::vector<uint32_t>& triangles) {
     const uint32_t n = uint32_t(triangles.size() / 3);
-    order_.resize(n);
-    std::vector<float> centroids(3 * size_t(n));
+    std::vector<Item> items(n);
     for (uint32_t t = 0; t < n; ++t) {
-        order_[t] = t;
-        for (int a = 0; a < 3; ++a)
-            centroids[3 * t + a] =
-                (positions[3 * triangles[3 * t] + a] + positions[3 * triangles[3 * t + 1] + a] +
-                 positions[3 * triangles[3 * t + 2] + a]) /
-                3.0f;
+        Item& item = items[t];
+        item.triangle = t;
+        for (int a = 0; a < 3; ++a) {
+            const float x0 = positions[3 * size_t(triangles[3 * size_t(t)]) + a];
+            const float x1 = positions[3 * size_t(triangles[3 * size_t(t) + 1]) + a];
+            const float x2 = positions[3 * size_t(triangles[3 * size_t(t) + 2]) + a];
+            item.lo[a] = std::min({x0, x1, x2});
+            item.hi[a] = std::max({x0, x1, x2});
+            item.centroid[a] = (x0 + x1 + x2) / 3.0f;
+        }
     }
     nodes_.reserve(2 * size_t(n / kLeafSize + 1));
-    if (n > 0) build(0, n, centroids);
+    if (n > 0) build(items, 0, n);
+
+    // Leaf order: triangle numbers and corner coordinates side by side for the queries.
+    order_.resize(n);
+    corners_.resize(9 * size_t(n));
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t t = items[i].triangle;
+        order_[i] = t;
+        for (int c = 0; c < 3; ++c)
+            for (int a = 0; a < 3; ++a)
+                corners_[9 * size_t(i) + 3 * c + a] =
+                    positions[3 * size_t(triangles[3 * size_t(t) + c]) + a];
+    }
+    // The hint names a triangle; find its corners through this inverse.
+    slot_of_.resize(n);
+    for (uint32_t i = 0; i < n; ++i) slot_of_[order_[i]] = i;
 }
 
-uint32_t TriangleBvh::build(uint32_t begin, uint32_t end, std::vector<float>& centroids) {
+uint32_t TriangleBvh::build(std::vector<Item>& items, uint32_t begin, uint32_t end) {
     const uint32_t index = uint32_t(nodes_.size());
     nodes_.push_back({});
     Node node;
@@ -97,12 +120,10 @@ uint32_t TriangleBvh::build(uint32_t begin, uint32_t end, std::vector<float>& ce
         node.hi[a] = -std::numeric_limits<float>::infinity();
     }
     for (uint32_t i = begin; i < end; ++i)
-        for (int corner = 0; corner < 3; ++corner)
-            for (int a = 0; a < 3; ++a) {
-                const float x = positions_[3 * triangles_[3 * order_[i] + corner] + a];
-                node.lo[a] = std::min(node.lo[a], x);
-                node.hi[a] = std::max(node.hi[a], x);
-            }
+        for (int a = 0; a < 3; ++a) {
+            node.lo[a] = std::min(node.lo[a], items[i].lo[a]);
+            node.hi[a] = std::max(node.hi[a], items[i].hi[a]);
+        }
     if (end - begin <= kLeafSize) {
         node.first = begin;
         node.right = 0;
@@ -114,16 +135,16 @@ uint32_t TriangleBvh::build(uint32_t begin, uint32_t end, std::vector<float>& ce
     for (int a = 1; a < 3; ++a)
         if (node.hi[a] - node.lo[a] > node.hi[axis] - node.lo[axis]) axis = a;
     const uint32_t mid = begin + (end - begin) / 2;
-    // Ties broken by triangle index so the tree depends only on the surface.
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](uint32_t s, uint32_t t) {
-                         const float cs = centroids[3 * s + axis], ct = centroids[3 * t + axis];
-                         return cs < ct || (cs == ct && s < t);
+    // Ties broken by triangle number so the tree depends only on the surface.
+    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                     [axis](const Item& s, const Item& t) {
+                         return s.centroid[axis] < t.centroid[axis] ||
+                                (s.centroid[axis] == t.centroid[axis] && s.triangle < t.triangle);
                      });
     node.count = 0;
     nodes_[index] = node;
-    const uint32_t left = build(begin, mid, centroids);
-    const uint32_t right = build(mid, end, centroids);
+    const uint32_t left = build(items, begin, mid);
+    const uint32_t right = build(items, mid, end);
     nodes_[index].first = left;
     nodes_[index].right = right;
     return index;
@@ -139,17 +160,37 @@ double TriangleBvh::box_distance_squared(const Node& node, const double q[3]) co
     return d;
 }
 
+void TriangleBvh::test_slot(uint32_t slot, const double q[3], ClosestPoint& best) const {
+    const float* x = &corners_[9 * size_t(slot)];
+    const Vec p{q[0], q[1], q[2]};
+    const Vec a{x[0], x[1], x[2]}, b{x[3], x[4], x[5]}, c{x[6], x[7], x[8]};
+    double w[3];
+    closest_on_triangle(p, a, b, c, w);
+    const Vec y{w[0] * a.x + w[1] * b.x + w[2] * c.x, w[0] * a.y + w[1] * b.y + w[2] * c.y,
+                w[0] * a.z + w[1] * b.z + w[2] * c.z};
+    const Vec d = p - y;
+    const double d2 = dot(d, d);
+    if (d2 < best.distance_squared) {
+        best.distance_squared = d2;
+        best.triangle = order_[slot];
+        std::copy(w, w + 3, best.barycentric);
+        best.point[0] = y.x, best.point[1] = y.y, best.point[2] = y.z;
+    }
+}
+
 ClosestPoint TriangleBvh::closest(const double query[3]) const {
+    return closest(query, UINT32_MAX);
+}
+
+ClosestPoint TriangleBvh::closest(const double query[3], uint32_t hint) const {
     ClosestPoint best;
     best.distance_squared = std::numeric_limits<double>::infinity();
     if (nodes_.empty()) return best;
-    const Vec p{query[0], query[1], query[2]};
-    auto corner = [&](uint32_t t, int c) {
-        const float* x = &positions_[3 * size_t(triangles_[3 * size_t(t) + c])];
-        return Vec{x[0], x[1], x[2]};
-    };
+    if (hint < order_.size()) test_slot(slot_of_[hint], query, best);
 
-    // Depth-first, nearer child first; a box farther than the best so far is skipped.
+    // Depth-first, nearer child first; a box farther than the best so far is skipped. (Equal
+    // distances keep the first found, so a hint can change which of two equally close
+    // triangles is reported, never the distance.)
     struct Entry {
         uint32_t node;
         double distance_squared;
@@ -162,23 +203,8 @@ ClosestPoint TriangleBvh::closest(const double query[3]) const {
         if (entry.distance_squared >= best.distance_squared) continue;
         const Node& node = nodes_[entry.node];
         if (node.count > 0) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i) {
-                const uint32_t t = order_[i];
-                const Vec a = corner(t, 0), b = corner(t, 1), c = corner(t, 2);
-                double w[3];
-                closest_on_triangle(p, a, b, c, w);
-                const Vec x{w[0] * a.x + w[1] * b.x + w[2] * c.x,
-                            w[0] * a.y + w[1] * b.y + w[2] * c.y,
-                            w[0] * a.z + w[1] * b.z + w[2] * c.z};
-                const Vec d = p - x;
-                const double d2 = dot(d, d);
-                if (d2 < best.distance_squared) {
-                    best.distance_squared = d2;
-                    best.triangle = t;
-                    std::copy(w, w + 3, best.barycentric);
-                    best.point[0] = x.x, best.point[1] = x.y, best.point[2] = x.z;
-                }
-            }
+            for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                test_slot(i, query, best);
             continue;
         }
         const uint32_t left = node.first;
