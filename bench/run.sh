@@ -73,11 +73,14 @@ for strategy in edge vertex; do
     fi
 done
 
-# speed FIELD NAME: FIELD of NAME's median in speed.json ("" if absent).
+# speed FIELD NAME: FIELD of NAME's median in speed.json (of its one run if there was only one
+# repetition; "" if absent).
 speed() {
     jq -r --arg name "$2" --arg field "$1" \
-        '[.benchmarks[] | select(.aggregate_name == "median")
-          | select(.run_name | split("/")[0] == $name)][0][$field] // empty' \
+        '[.benchmarks[] | select(.run_name | split("/")[0] == $name)
+          | select(.error_occurred != true)] as $runs
+         | ([$runs[] | select(.aggregate_name == "median")][0]
+            // [$runs[] | select(.run_type == "iteration")][0]) | .[$field] // empty' \
         "$results/speed.json" 2>/dev/null || true
 }
 # speed_error NAME: the error message NAME reported, if any.
@@ -91,12 +94,15 @@ speed_error() {
 memory_field() {
     jq -r --arg field "$1" '.[$field] // empty' "$results/memory-$2.json" 2>/dev/null || true
 }
-# fmt DECIMALS NUMBER: NUMBER rounded to DECIMALS places, or "—" for no number.
+# fmt DECIMALS NUMBER: NUMBER rounded to DECIMALS places (thousands grouped when 0), or "—" for
+# no number.
 fmt() {
-    if [[ -n "$2" ]]; then
-        LC_ALL=C printf '%.*f' "$1" "$2"
-    else
+    if [[ -z "$2" ]]; then
         printf '—'
+    elif (($1 == 0)); then
+        LC_ALL=C printf '%.0f' "$2" | sed -E ':a; s/^([0-9]+)([0-9]{3})/\1,\2/; ta'
+    else
+        LC_ALL=C printf '%.*f' "$1" "$2"
     fi
 }
 # triangles NAME: "in → reached (target)".
