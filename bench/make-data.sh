@@ -6,8 +6,8 @@
 #                     axis: >= 1 M triangles, carrying `vectors` (the speed and memory runs)
 #   carotid-100k.vtp  isosurface scalars = ISO_100K of the volume resampled RESAMPLE_100K times:
 #                     ~100 k triangles, carrying `vectors` (quick runs: bench/run.sh --quick).
-#                     Not the native resolution: its staircase isosurfaces are full of feature
-#                     edges (> 60 degrees), and ddsimp stops far short of 10% on them.
+#                     Not the native resolution: its staircase isosurfaces are full of edges
+#                     sharper than usual feature angles (with 60 degrees ddsimp stops at 40%).
 #
 # Usage: bench/make-data.sh [--force]     (--force: remake files that exist)
 # Environment:
