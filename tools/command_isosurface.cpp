@@ -21,6 +21,7 @@ struct IsosurfaceArgs {
 };
 
 int run_isosurface(const IsosurfaceArgs& args) {
+    io::check_output_path(args.output);
     const auto start = std::chrono::steady_clock::now();
     const Surface surface = io::extract_isosurface(args.volume, args.options);
     const double seconds = seconds_since(start);
@@ -64,7 +65,7 @@ Command add_isosurface_command(CLI::App& app) {
         ->delimiter(',');
     sub->add_option("--resample", args->options.resample,
                     "Resample the volume to K times its resolution per axis first")
-        ->check(CLI::PositiveNumber)
+        ->check(CLI::Range(1, 64))
         ->capture_default_str();
     sub->add_option("--q", args->options.q_file, "PLOT3D solution (Q) file for a grid file");
     sub->add_option("--function", args->options.plot3d_functions,

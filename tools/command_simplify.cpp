@@ -52,6 +52,7 @@ int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
     if (app.count("--triangles") && args.triangles == 0)
         throw UsageError("--triangles must be at least 1");
 
+    io::check_output_path(args.output);
     const Surface input = io::read_surface(args.input);
     require_fields(input, args.fields, args.input);
 
@@ -130,7 +131,15 @@ Command add_simplify_command(CLI::App& app) {
         ->excludes(keep);
     sub->add_option("--max-weight", args->max_weight,
                     "Also stop when the lightest element weighs more than this")
-        ->check(CLI::NonNegativeNumber);
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                try {
+                    if (std::stod(text) >= 0) return std::string();
+                } catch (const std::exception&) {
+                }
+                return "'" + text + "' is not a number >= 0";
+            },
+            "W>=0"));
     sub->add_option("--strategy", args->strategy, "edge (collapse) or vertex (removal)")
         ->check(CLI::IsMember({"edge", "vertex"}))
         ->capture_default_str();
@@ -152,7 +161,7 @@ Command add_simplify_command(CLI::App& app) {
         ->check(CLI::Range(0.0, 180.0))
         ->capture_default_str();
     sub->add_option("--threads", args->threads, "Threads for the set-up stages")
-        ->check(CLI::PositiveNumber)
+        ->check(CLI::Range(1, 1024))
         ->capture_default_str();
     sub->add_flag("--json", args->json, "Print one JSON object instead of a summary");
     return {sub, [args, sub] { return run_simplify(*args, *sub); }};

@@ -1,6 +1,6 @@
 #include "openmesh_files.h"
 
-#include "ddsimp/openmesh.h"
+#include "ddsimp/openmesh.h" // TriMesh
 #include "file_header_checks.h"
 #include "surface_io.h"
 
@@ -75,6 +75,26 @@ private:
     const Surface& surface_;
 };
 
+template <class T>
+bool copy_if_type(const OpenMesh::BaseProperty& base, size_t n, std::vector<float>& out) {
+    auto* p = dynamic_cast<const OpenMesh::PropertyT<T>*>(&base);
+    if (p == nullptr) return false;
+    out.resize(n);
+    for (size_t v = 0; v < n; ++v) out[v] = float((*p)[v]);
+    return true;
+}
+
+// A scalar vertex property the PLY reader made from the file (any numeric type) as floats.
+std::optional<std::vector<float>> scalar_as_floats(const OpenMesh::BaseProperty& base, size_t n) {
+    std::vector<float> out;
+    if (copy_if_type<float>(base, n, out) || copy_if_type<double>(base, n, out) ||
+        copy_if_type<int8_t>(base, n, out) || copy_if_type<uint8_t>(base, n, out) ||
+        copy_if_type<int16_t>(base, n, out) || copy_if_type<uint16_t>(base, n, out) ||
+        copy_if_type<int32_t>(base, n, out) || copy_if_type<uint32_t>(base, n, out))
+        return out;
+    return std::nullopt;
+}
+
 // Vertex properties "name[0]" .. "name[k-1]" (how we write a k-component field to PLY) become
 // one field again.
 void regroup_component_fields(Surface& surface) {
@@ -145,10 +165,15 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
                       " faces but OpenMesh's reader delivered " + std::to_string(importer.faces()) +
                       " (malformed, or faces it skips such as degenerate STL facets)");
 
-    // Drop the placeholder face elements, then read vertices and their properties as fields.
-    mesh.resize(mesh.n_vertices(), 0, 0);
-    Surface surface = from_openmesh(mesh);
+    Surface surface;
+    surface.positions.reserve(3 * mesh.n_vertices());
+    for (auto vh : mesh.vertices())
+        for (int c = 0; c < 3; ++c) surface.positions.push_back(mesh.point(vh)[c]);
     surface.triangles = std::move(importer.triangles);
+    for (auto it = mesh.vprops_begin(); it != mesh.vprops_end(); ++it)
+        if (*it != nullptr && (*it)->name().rfind("v:", 0) != 0)
+            if (auto values = scalar_as_floats(**it, mesh.n_vertices()))
+                surface.fields.push_back({(*it)->name(), 1, std::move(*values)});
     regroup_component_fields(surface);
     return surface;
 }

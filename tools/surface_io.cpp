@@ -83,13 +83,18 @@ Surface read_surface(const std::string& path) {
     return surface;
 }
 
-void write_surface(const Surface& surface, const std::string& path) {
+void check_output_path(const std::string& path) {
     const std::string ext = extension_of(path);
     if (!is_vtk_format(ext) && !is_openmesh_writable(ext))
         throw IoError("cannot write " + path + ": unknown extension '" + ext +
                       "' (writable: .vtk .vtp .ply .obj .off)");
-    check_shape(surface, path);
     check_writable(path);
+}
+
+void write_surface(const Surface& surface, const std::string& path) {
+    check_output_path(path);
+    check_shape(surface, path);
+    const std::string ext = extension_of(path);
     if (is_vtk_format(ext))
         write_vtk_file(surface, path, ext);
     else

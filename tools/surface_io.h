@@ -37,6 +37,10 @@ Surface read_surface(const std::string& path);
 // IoError if the file cannot be written or the extension is not a writable format.
 void write_surface(const Surface& surface, const std::string& path);
 
+// Throws the IoError write_surface would throw for an unknown extension or a file that cannot be
+// created, so that a command fails before a long computation rather than after it.
+void check_output_path(const std::string& path);
+
 // Lower-case extension of `path` with its dot (".vtk"), or "" if it has none.
 std::string extension_of(const std::string& path);
 
