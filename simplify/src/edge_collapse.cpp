@@ -31,27 +31,31 @@ bool Simplifier::kinds_allow_collapse(uint32_t h) const {
     return true;
 }
 
+bool Simplifier::collapsible(uint32_t h) const {
+    if (!kinds_allow_collapse(h)) return false;
+    const uint32_t failed = fail_[h];
+    if (failed == 0) return true;
+    const uint32_t t = mesh_.twin[h];
+    for (uint32_t v : {mesh_.origin[h], mesh_.dest(h), mesh_.origin[prev(h)],
+                       t != kNone ? mesh_.origin[prev(t)] : mesh_.origin[h]})
+        if (epoch_[v] > failed) return true;
+    return false;
+}
+
 HeapKey Simplifier::collapse_key(uint32_t h) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
     return {weight_[a] + weight_[b], float(norm(sub(mesh_.point(a), mesh_.point(b))))};
 }
 
-HeapKey Simplifier::best_collapse_key(uint32_t v) const {
-    HeapKey best;
-    const VertexKind k = mesh_.kind[v];
-    if (k == VertexKind::Complex || k == VertexKind::Dead) return best;
-    uint32_t last = kNone;
-    auto consider = [&](uint32_t h) {
-        if (!kinds_allow_collapse(h)) return;
-        const HeapKey key = collapse_key(h);
-        if (key < best) best = key;
-    };
-    mesh_.for_each_outgoing(v, [&](uint32_t h) {
-        consider(h);
-        last = h;
-    });
-    if (mesh_.twin[prev(last)] == kNone) consider(prev(last));
-    return best;
+void Simplifier::refresh_edge(uint32_t h) {
+    // One heap entry per edge, under its lower half-edge id.
+    uint32_t t = mesh_.twin[h];
+    if (t != kNone && t < h) std::swap(h, t);
+    if (t != kNone) heap_.erase(t);
+    if (collapsible(h))
+        heap_.set(h, collapse_key(h));
+    else
+        heap_.erase(h);
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
@@ -191,7 +195,10 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     for (size_t i = 0; i < count; ++i) m.origin[leaving[i]] = n;
     for (uint32_t t : {t0, t1}) {
         if (t == kNone) continue;
-        for (uint32_t c = 0; c < 3; ++c) m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
+        for (uint32_t c = 0; c < 3; ++c) {
+            heap_.erase(3 * t + c);
+            m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
+        }
         --m.live_triangles;
     }
 
@@ -204,8 +211,6 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
         dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
-    heap_.erase(a);
-    heap_.erase(b);
     for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
     m.kind[n] = VertexKind::Free;
     m.reset_out(n, leaving[0]);
@@ -222,44 +227,16 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     refresh_around(changed, k + 1);
 }
 
-void Simplifier::step_collapse(uint32_t v) {
-    heap_.erase(v);
-    const HeapKey next_best = heap_.empty() ? HeapKey{} : heap_.top_key();
-
-    struct Candidate {
-        HeapKey key;
-        uint32_t other, halfedge;
-    };
-    Candidate candidates[kMaxValence + 1];
-    size_t count = 0;
-    uint32_t last = kNone;
-    auto consider = [&](uint32_t h, uint32_t other) {
-        if (count <= kMaxValence && kinds_allow_collapse(h))
-            candidates[count++] = {collapse_key(h), other, h};
-    };
-    mesh_.for_each_outgoing(v, [&](uint32_t h) {
-        consider(h, mesh_.dest(h));
-        last = h;
-    });
-    if (mesh_.twin[prev(last)] == kNone) consider(prev(last), mesh_.origin[prev(last)]);
-    std::sort(candidates, candidates + count, [](const Candidate& l, const Candidate& r) {
-        if (l.key < r.key) return true;
-        if (r.key < l.key) return false;
-        return l.other < r.other;
-    });
-
+void Simplifier::step_collapse(uint32_t h) {
+    heap_.erase(h);
     CollapsePlan plan;
-    for (size_t i = 0; i < count; ++i) {
-        if (next_best < candidates[i].key) { // something else is lighter now: wait for it
-            heap_.set(v, candidates[i].key);
-            return;
-        }
-        if (plan_collapse(candidates[i].halfedge, plan)) {
-            apply_collapse(plan);
-            return;
-        }
+    if (plan_collapse(h, plan)) {
+        apply_collapse(plan);
+        return;
     }
-    // Nothing around v can go for now; a change nearby puts it back in the heap.
+    // Refused: it stays out of the heap until a change around it refreshes it.
+    fail_[h] = uint32_t(operations_ + 1);
+    if (mesh_.twin[h] != kNone) fail_[mesh_.twin[h]] = fail_[h];
 }
 
 } // namespace ddsimp

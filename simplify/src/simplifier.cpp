@@ -50,14 +50,21 @@ template <class F> void parallel_for(size_t n, int threads, F&& f) {
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
     : options_(options),
-      heap_(options.strategy == Strategy::EdgeCollapse ? 2 * surface.vertex_count()
+      // Edge collapse keeps one heap entry per edge (under a half-edge id), vertex removal one
+      // per vertex.
+      heap_(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size()
                                                        : surface.vertex_count()) {
     check_options(options);
     gradient_.setup(surface, options.gradient_fields);
     const size_t capacity = options.strategy == Strategy::EdgeCollapse ? 2 * surface.vertex_count()
                                                                        : surface.vertex_count();
     mesh_.build(surface, capacity, limits_from(options));
-    stamp_.assign(capacity, 0);
+    stamp_.assign(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size() : capacity,
+                  0);
+    if (options.strategy == Strategy::EdgeCollapse) {
+        fail_.assign(surface.triangles.size(), 0);
+        epoch_.assign(capacity, 0);
+    }
 
     record_.strategy_ = options.strategy;
     record_.base_triangles_ = surface.triangles;
@@ -88,7 +95,13 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     for (uint32_t v = 0; v < n; ++v)
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
-    for (uint32_t v = 0; v < n; ++v) refresh_key(v);
+    if (options.strategy == Strategy::EdgeCollapse)
+        for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
+            const uint32_t t = mesh_.twin[h];
+            if (t == kNone || h < t) refresh_edge(h);
+        }
+    else
+        for (uint32_t v = 0; v < n; ++v) refresh_key(v);
 }
 
 double Simplifier::weight_of(uint32_t v) const {
@@ -101,52 +114,43 @@ void Simplifier::refresh_weight(uint32_t v) {
 }
 
 void Simplifier::refresh_key(uint32_t v) {
-    const HeapKey key =
-        options_.strategy == Strategy::EdgeCollapse ? best_collapse_key(v) : removal_key(v);
+    const HeapKey key = removal_key(v);
     if (std::isinf(key.weight))
         heap_.erase(v);
     else
         heap_.set(v, key);
 }
 
-// After an operation: `changed` vertices have new neighbourhoods. Their kinds, weights and keys
-// are recomputed. For edge collapse their neighbours' keys (which add a changed weight) are only
-// lowered where an edge to a changed vertex became lighter; a key left too low is corrected
-// when its vertex is taken from the heap (step_collapse recomputes it), so the order is exact.
+// After an operation: `changed` vertices have new neighbourhoods; their kinds and weights are
+// recomputed, then the keys that read them: their own (vertex removal), or those of the edges
+// around them (edge collapse); a refused far edge of one of their triangles, whose collapse
+// checks read the triangle's apex, goes back into the heap too.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) mesh_.classify(changed[i]);
     for (size_t i = 0; i < count; ++i) refresh_weight(changed[i]);
-    ++stamp_now_;
-    for (size_t i = 0; i < count; ++i) stamp_[changed[i]] = stamp_now_;
     if (options_.strategy != Strategy::EdgeCollapse) {
         for (size_t i = 0; i < count; ++i) refresh_key(changed[i]);
         return;
     }
+    for (size_t i = 0; i < count; ++i) epoch_[changed[i]] = uint32_t(operations_ + 1);
+    ++stamp_now_;
+    auto refresh = [&](uint32_t h) {
+        const uint32_t t = mesh_.twin[h];
+        const uint32_t id = t != kNone && t < h ? t : h;
+        if (stamp_[id] == stamp_now_) return;
+        stamp_[id] = stamp_now_;
+        refresh_edge(id);
+    };
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
-        HeapKey best;
-        if (mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead) {
-            // One pass over v's edges: v's own key, and lower keys of unchanged neighbours.
-            auto consider = [&](uint32_t h, uint32_t other) {
-                if (!kinds_allow_collapse(h)) return;
-                const HeapKey key = collapse_key(h);
-                if (key < best) best = key;
-                if (stamp_[other] != stamp_now_ &&
-                    (!heap_.contains(other) || key < heap_.key(other)))
-                    heap_.set(other, key);
-            };
-            uint32_t last = kNone;
-            mesh_.for_each_outgoing(v, [&](uint32_t h) {
-                consider(h, mesh_.dest(h));
-                last = h;
-            });
-            if (mesh_.twin[detail::prev(last)] == kNone)
-                consider(detail::prev(last), mesh_.origin[detail::prev(last)]);
-        }
-        if (std::isinf(best.weight))
-            heap_.erase(v);
-        else
-            heap_.set(v, best);
+        if (mesh_.kind[v] == VertexKind::Dead || mesh_.out[v] == kNone) continue;
+        uint32_t last = kNone;
+        mesh_.for_each_outgoing(v, [&](uint32_t h) {
+            refresh(h);
+            if (fail_[detail::next(h)] != 0) refresh(detail::next(h)); // may be possible again
+            last = h;
+        });
+        if (mesh_.twin[detail::prev(last)] == kNone) refresh(detail::prev(last));
     }
 }
 
@@ -171,16 +175,16 @@ ProgressiveRecord Simplifier::run() {
             record_.stop_ = StopReason::NothingRemovable;
             break;
         }
-        const uint32_t v = heap_.top();
-        if (heap_.key(v).weight > options_.max_weight) {
+        const uint32_t top = heap_.top();
+        if (heap_.top_key().weight > options_.max_weight) {
             record_.stop_ = StopReason::WeightBound;
             break;
         }
         const size_t before = operations_;
         if (options_.strategy == Strategy::EdgeCollapse)
-            step_collapse(v);
+            step_collapse(top);
         else
-            step_removal(v);
+            step_removal(top);
         if (operations_ != before) {
             record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
             if (!report_progress(mesh_.live_triangles, target)) {

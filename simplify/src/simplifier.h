@@ -46,17 +46,21 @@ private:
     // simplifier.cpp: weights, keys, the main loop.
     double weight_of(uint32_t v) const;
     void refresh_weight(uint32_t v);
-    void refresh_key(uint32_t v);
+    void refresh_key(uint32_t v); // vertex removal: the heap holds vertices
+
     void refresh_around(const uint32_t* changed, size_t count);
     bool report_progress(size_t live, size_t target);
 
     // edge_collapse.cpp
     bool kinds_allow_collapse(uint32_t h) const;
+    // kinds_allow_collapse, and not known to fail: plan_collapse refused it and nothing it reads
+    // has changed since.
+    bool collapsible(uint32_t h) const;
     detail::HeapKey collapse_key(uint32_t h) const;
-    detail::HeapKey best_collapse_key(uint32_t v) const;
+    void refresh_edge(uint32_t h);
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void apply_collapse(const CollapsePlan& plan);
-    void step_collapse(uint32_t v);
+    void step_collapse(uint32_t h);
 
     // vertex_removal.cpp
     detail::HeapKey removal_key(uint32_t v) const;
@@ -75,9 +79,13 @@ private:
     std::vector<float> weight_;
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     detail::IndexedHeap heap_;
-    std::vector<uint32_t> stamp_;
+    std::vector<uint32_t> stamp_; // per heap id: last refresh_around that refreshed it
     uint32_t stamp_now_ = 0;
     size_t operations_ = 0;
+    // Edge collapse remembers refusals: fail_[h] is 1 + the operation count when plan_collapse
+    // refused h; epoch_[v] is 1 + the operation count when v's star last changed. A refusal
+    // stands while no end or apex of the edge has changed since (the checks read nothing else).
+    std::vector<uint32_t> fail_, epoch_;
     ProgressiveRecord record_;
 };
 
