@@ -125,10 +125,12 @@ CompareReport compare_surfaces(const Surface& original, const Surface& reduced,
             throw InputError("no field '" + name + "' in the " + (a ? "reduced" : "original") +
                              " surface");
         }
-        if (a->components != b->components)
+        if (a->components != b->components) {
+            if (!required) return; // not asked for by name: compare what can be compared
             throw InputError("field '" + name + "' has " + std::to_string(a->components) +
                              " components in the original but " + std::to_string(b->components) +
                              " in the reduced surface");
+        }
         if (a->values.size() != original.vertex_count() * size_t(a->components) ||
             b->values.size() != reduced.vertex_count() * size_t(b->components))
             throw InputError("field '" + name + "' does not have one value per vertex");

@@ -45,7 +45,8 @@ struct CompareReport {
 // other one. Geometric error: that distance. Data error: the vertex's field value minus the other
 // surface's field interpolated barycentrically at the closest point (L2 norm for vectors),
 // divided by the field's range. `fields` names the fields to compare (each must exist in both
-// with the same components); empty means every field of the original the reduced one also has.
+// with the same components); empty means every field of the original that the reduced one also
+// has with the same number of components.
 // Throws ddsimp::InputError for a missing or mismatched field or an empty surface.
 // Cost: O((V + V') log T) with a BVH per surface; about a second per million triangles.
 CompareReport compare_surfaces(const Surface& original, const Surface& reduced,

@@ -152,10 +152,11 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
         QuietOpenMesh quiet;
         ok = OpenMesh::IO::IOManager().read(path, importer, options);
     }
-    if (!ok)
-        throw IoError(context + ": OpenMesh's " + extension + " reader failed (malformed file?)");
+    // The header check first: its message says more than the reader's failure.
     if (std::string problem = check_file_body(path, extension); !problem.empty())
         throw IoError(context + ": " + problem);
+    if (!ok)
+        throw IoError(context + ": OpenMesh's " + extension + " reader failed (malformed file?)");
     if (auto polygon = importer.first_polygon())
         throw IoError(context + ": face " + std::to_string(polygon->first) + " has " +
                       std::to_string(polygon->second) + " vertices; only triangles are supported");

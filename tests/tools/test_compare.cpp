@@ -133,6 +133,17 @@ TEST(Compare, UnknownOrMismatchedFieldIsAnError) {
     EXPECT_THROW(tools::compare_surfaces(s, other, {"Temp"}), InputError);
 }
 
+TEST(Compare, WithoutNamesOnlyFieldsBothHaveAlikeAreCompared) {
+    const Surface s = square_with_fields(); // Temp, V(3), uv(2)
+    Surface other = s;
+    other.fields[0].components = 2; // Temp now differs in shape
+    other.fields[0].values.resize(8);
+    other.fields.pop_back(); // uv is gone
+    const tools::CompareReport r = tools::compare_surfaces(s, other, {});
+    ASSERT_EQ(r.fields.size(), 1u);
+    EXPECT_EQ(r.fields[0].name, "V");
+}
+
 TEST(TriangleBvh, AgreesWithBruteForceOnARealSurface) {
     const std::string path = shared_data("geometry/fandisk.off");
     DDSIMP_REQUIRE_SHARED(path);

@@ -195,3 +195,48 @@ TEST(SurfaceIoErrors, WrongFieldLengthIsRefusedBeforeWriting) {
     const std::string message = io_error_of([&] { io::write_surface(s, dir.file("x.vtk")); });
     EXPECT_NE(message.find("field 'V'"), std::string::npos) << message;
 }
+
+TEST(SurfaceIoErrors, TruncatedBinaryPly) {
+    ScratchDir dir;
+    const std::string path = dir.file("cut.ply");
+    io::write_surface(square_with_fields(), path);
+    const std::string bytes = file_bytes(path);
+    write_text(path, bytes.substr(0, bytes.size() - 10)); // part of the last face is gone
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_NE(message.find("ends early"), std::string::npos) << message;
+}
+
+TEST(SurfaceIoErrors, TruncatedAsciiPly) {
+    ScratchDir dir;
+    const std::string path = dir.file("cut.ply");
+    write_text(path, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                     "y\nproperty float z\nelement face 2\nproperty list uchar int "
+                     "vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_NE(message.find("ends early"), std::string::npos) << message;
+}
+
+// OBJ faces with texture coordinates ("f 1/1 2/2 3/3") once crashed our importer.
+TEST(SurfaceIo, ObjWithTextureCoordinatesAndNormals) {
+    ScratchDir dir;
+    const std::string path = dir.file("textured.obj");
+    write_text(path, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                     "vn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n");
+    const Surface s = io::read_surface(path);
+    EXPECT_EQ(s.vertex_count(), 4u);
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 1, 2, 0, 2, 3}));
+}
+
+TEST(SurfaceIo, AsciiPlyPropertiesOfOtherNumericTypesBecomeFloatFields) {
+    ScratchDir dir;
+    const std::string path = dir.file("types.ply");
+    write_text(path, "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                     "y\nproperty float z\nproperty double pressure\nproperty int label\n"
+                     "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                     "0 0 0 1.5 -3\n1 0 0 2.5 4\n0 1 0 3.5 5\n3 0 1 2\n");
+    const Surface s = io::read_surface(path);
+    ASSERT_EQ(s.fields.size(), 2u);
+    EXPECT_EQ(s.fields[0].name, "pressure");
+    EXPECT_EQ(s.fields[0].values, (std::vector<float>{1.5f, 2.5f, 3.5f}));
+    EXPECT_EQ(s.fields[1].values, (std::vector<float>{-3, 4, 5}));
+}
