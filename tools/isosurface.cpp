@@ -24,6 +24,7 @@
 #include <cstring>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace ddsimp::io {
 
@@ -42,6 +43,13 @@ struct PointHash {
             h = h * 0x9E3779B97F4A7C15ull + bits;
         }
         return h;
+    }
+};
+
+struct TripleHash {
+    size_t operator()(const std::array<uint32_t, 3>& t) const {
+        return (size_t(t[0]) * 0x9E3779B97F4A7C15ull ^ size_t(t[1])) * 0xBF58476D1CE4E5B9ull ^
+               size_t(t[2]);
     }
 };
 
@@ -105,8 +113,8 @@ vtkSmartPointer<vtkDataSet> resample(vtkDataSet* volume, int factor, const std::
 }
 
 // Merges exactly coincident points (the first keeps its index: deterministic), then drops
-// triangles that collapse and, after resampling, triangles with a corner outside the input
-// (valid < 1), and finally the vertices no triangle uses.
+// triangles that collapse or repeat an earlier one and, after resampling, triangles with a corner
+// outside the input (valid < 1), and finally the vertices no triangle uses.
 void merge_and_clean(Surface& surface) {
     std::vector<float> valid;
     auto valid_it = std::find_if(surface.fields.begin(), surface.fields.end(),
@@ -128,6 +136,8 @@ void merge_and_clean(Surface& surface) {
 
     std::vector<uint32_t> kept;
     kept.reserve(surface.triangles.size());
+    std::unordered_set<std::array<uint32_t, 3>, TripleHash> seen;
+    seen.reserve(surface.triangle_count());
     for (size_t t = 0; t < surface.triangle_count(); ++t) {
         uint32_t c[3];
         for (int i = 0; i < 3; ++i) c[i] = representative[surface.triangles[3 * t + i]];
@@ -135,6 +145,10 @@ void merge_and_clean(Surface& surface) {
         if (!valid.empty() &&
             !(valid[c[0]] > 0.999f && valid[c[1]] > 0.999f && valid[c[2]] > 0.999f))
             continue;
+        // Two cells can give the same triangle once their points are merged; keep the first.
+        std::array<uint32_t, 3> key{c[0], c[1], c[2]};
+        std::sort(key.begin(), key.end());
+        if (!seen.insert(key).second) continue;
         kept.insert(kept.end(), c, c + 3);
     }
     surface.triangles = std::move(kept);

@@ -22,8 +22,8 @@ struct IsosurfaceOptions {
 };
 
 // Reads the volume (see volume_reader.h for the formats) and contours `field` at `value`: a
-// triangle surface, coincident points merged, degenerate triangles dropped, carried fields
-// interpolated linearly. Deterministic. Throws IoError for an unreadable file, an unknown or
+// triangle surface, coincident points merged, degenerate and repeated triangles dropped, carried
+// fields interpolated linearly. Deterministic. Throws IoError for an unreadable file, an unknown or
 // non-scalar field, or an isovalue outside the field's range (no triangles).
 Surface extract_isosurface(const std::string& volume_path, const IsosurfaceOptions& options);
 

@@ -86,6 +86,11 @@ TEST(Isosurface, ResampleTwiceGivesAboutFourTimesTheTriangles) {
     EXPECT_GT(fine.triangle_count(), 3 * plain);
     EXPECT_LT(fine.triangle_count(), 5 * plain);
     EXPECT_EQ(fine.fields.size(), 2u); // scalars, vectors: no resampling mask arrays
+    // Resampled contours pass exactly through grid points; merging must leave no duplicates.
+    Surface copy = fine;
+    const RepairReport repairs = validate(copy);
+    EXPECT_EQ(repairs.duplicate_triangles_dropped, 0u);
+    EXPECT_EQ(repairs.degenerate_triangles_dropped, 0u);
 }
 
 TEST(Isosurface, Plot3dCombustorDensity) {
