@@ -79,7 +79,7 @@ TEST(Isosurface, ResampleTwiceGivesAboutFourTimesTheTriangles) {
     DDSIMP_REQUIRE_SHARED(path);
     io::IsosurfaceOptions options;
     options.field = "scalars";
-    options.value = 175;
+    options.value = 127; // large surfaces; merged points repeat triangles here
     const size_t plain = io::extract_isosurface(path, options).triangle_count();
     options.resample = 2;
     const Surface fine = io::extract_isosurface(path, options);
