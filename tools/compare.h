@@ -48,7 +48,8 @@ struct CompareReport {
 // with the same components); empty means every field of the original that the reduced one also
 // has with the same number of components.
 // Throws ddsimp::InputError for a missing or mismatched field or an empty surface.
-// Cost: O((V + V') log T) with a BVH per surface; about a second per million triangles.
+// Cost: O((V + V') log T) with a BVH per surface, single-threaded: about 2 s for a 1.18 M-triangle
+// isosurface against its 10% reduction (measured on the 2-core development machine).
 CompareReport compare_surfaces(const Surface& original, const Surface& reduced,
                                const std::vector<std::string>& fields);
 
