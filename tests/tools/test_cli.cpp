@@ -21,9 +21,15 @@ struct CliRun {
 };
 
 std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
+    std::string q(1, '\'');
+    for (char c : s) {
+        if (c == '\'')
+            q.append("'\\''");
+        else
+            q.push_back(c);
+    }
+    q.push_back('\'');
+    return q;
 }
 
 std::string read_all(const std::string& path) {
@@ -33,9 +39,10 @@ std::string read_all(const std::string& path) {
 
 CliRun ddsimp_cli(const ScratchDir& dir, const std::vector<std::string>& args) {
     std::string command = quote(DDSIMP_CLI);
-    for (const std::string& a : args) command += " " + quote(a);
+    for (const std::string& a : args) command.append(" ").append(quote(a));
     const std::string out = dir.file("stdout.txt"), err = dir.file("stderr.txt");
-    command += " >" + quote(out) + " 2>" + quote(err) + " </dev/null";
+    command.append(" >").append(quote(out)).append(" 2>").append(quote(err));
+    command.append(" </dev/null");
     const int raw = std::system(command.c_str());
     CliRun run;
     run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
