@@ -137,13 +137,15 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
 
     // No remaining triangle may flip, fold or turn its normal by more than the limit.
     const double turn_cos = mesh_.limits.normal_turn_cos;
+    Vec3 ref = add(mesh_.reference_normal(a), mesh_.reference_normal(b));
     bool ok = true;
     auto check_star = [&](uint32_t v) {
         const Vec3 pv = mesh_.point(v);
         mesh_.for_each_outgoing(v, [&](uint32_t g) {
             const uint32_t t = g / 3;
             if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
-            const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
+            const uint32_t qi = mesh_.dest(g), ri = mesh_.origin[prev(g)];
+            const Vec3 q = mesh_.point(qi), r = mesh_.point(ri);
             const Vec3 before = cross(sub(q, pv), sub(r, pv));
             const Vec3 after = cross(sub(q, p), sub(r, p));
             const double la = norm(after), lb = norm(before);
@@ -151,6 +153,8 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
             if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp)))
                 ok = false;
             else if (lb > 0 && dot(after, before) < turn_cos * la * lb)
+                ok = false;
+            else if (dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri, qi))
                 ok = false;
         });
     };
@@ -212,6 +216,11 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
     for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
+    const Vec3 ref = add(m.reference_normal(a), m.reference_normal(b));
+    const double lr = norm(ref);
+    for (int c = 0; c < 3; ++c)
+        m.reference[3 * size_t(n) + c] =
+            lr > 0 ? float(ref[c] / lr) : m.reference[3 * size_t(a) + c];
     m.kind[n] = VertexKind::Free;
     m.reset_out(n, leaving[0]);
     m.reset_out(x, entry_x);

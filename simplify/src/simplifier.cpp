@@ -193,7 +193,7 @@ ProgressiveRecord Simplifier::run() {
             }
         }
     }
-    if (options_.progress) options_.progress(1.0);
+    if (options_.progress && record_.stop_ != StopReason::Cancelled) options_.progress(1.0);
 
     // Hand the vertices (the input's and those the collapses made) to the record.
     const size_t nv = mesh_.vertex_count;

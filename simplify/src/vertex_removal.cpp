@@ -100,7 +100,8 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         plan.outer_line[fan] = mesh_.line[next(h)];
         if (!plan.boundary && mesh_.line[h]) // a feature line through v
             (plan.feature_a < 0 ? plan.feature_a : plan.feature_b) = int(fan);
-        normal = add(normal, mesh_.triangle_normal(h / 3));
+        plan.star_normal[fan] = mesh_.triangle_normal(h / 3);
+        normal = add(normal, plan.star_normal[fan]);
         last = h;
         ++fan;
     });
@@ -186,13 +187,23 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
         if (!triangulate(plan, xy, polygon, n, adjacent, plan)) return false;
     }
 
-    // The new triangles must face the same way as the star in 3D too.
+    // The new triangles must face the same way as the star in 3D too, and turn no more than
+    // the limit from the star triangles at their corners.
+    const size_t fan = plan.boundary ? n - 1 : n;
+    const double turn_cos = mesh_.limits.normal_turn_cos;
     for (size_t t = 0; t < plan.new_count; ++t) {
         const uint8_t* c = plan.triangles[t];
         const Vec3 p0 = mesh_.point(plan.ring[c[0]]);
         const Vec3 tn =
             cross(sub(mesh_.point(plan.ring[c[1]]), p0), sub(mesh_.point(plan.ring[c[2]]), p0));
-        if (dot(tn, axis) <= 0) return false;
+        for (int k = 0; k < 3; ++k) {
+            if (c[k] >= fan) continue;
+            const Vec3& old = plan.star_normal[c[k]];
+            if (dot(tn, old) < turn_cos * norm(tn) * norm(old)) return false;
+        }
+        if (dot(tn, axis) <= 0 ||
+            !mesh_.faces_along(tn, plan.ring[c[0]], plan.ring[c[1]], plan.ring[c[2]]))
+            return false;
     }
     return true;
 }
@@ -221,7 +232,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
             const double la = norm(after), lb = norm(before);
             const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
                                dot(sub(q, r), sub(q, r));
-            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb))
+            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
+                !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1]))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);

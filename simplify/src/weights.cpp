@@ -82,7 +82,10 @@ double GradientTerms::at(const WorkingMesh& mesh, uint32_t v) const {
 namespace ddsimp {
 
 namespace {
-detail::WorkingMesh analysed(const Surface& surface) {
+// The mesh of a repaired copy (consistent orientation), with the input's vertex numbering.
+detail::WorkingMesh analysed(const Surface& input) {
+    Surface surface = input;
+    validate(surface);
     detail::WorkingMesh mesh;
     detail::Limits limits; // features do not matter for the weights
     mesh.build(surface, surface.vertex_count(), limits);

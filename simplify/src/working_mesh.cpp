@@ -54,6 +54,22 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
         }
     }
 
+    reference.assign(3 * capacity, 0.0f);
+    {
+        std::vector<double> sum(3 * vertex_count, 0.0);
+        for (uint32_t t = 0; t < live_triangles; ++t) {
+            const Vec3 n = triangle_normal(t);
+            for (int c = 0; c < 3; ++c)
+                for (int k = 0; k < 3; ++k) sum[3 * size_t(origin[3 * t + c]) + k] += n[k];
+        }
+        for (size_t v = 0; v < vertex_count; ++v) {
+            const double l = std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
+                                       sum[3 * v + 2] * sum[3 * v + 2]);
+            if (l > 0)
+                for (int k = 0; k < 3; ++k) reference[3 * v + k] = float(sum[3 * v + k] / l);
+        }
+    }
+
     // Feature edges from the dihedral angle between twin triangles.
     std::vector<Vec3> normal(s.triangle_count());
     for (uint32_t t = 0; t < normal.size(); ++t) {
@@ -88,25 +104,11 @@ Vec3 WorkingMesh::triangle_normal(uint32_t t) const {
     return cross(sub(b, a), sub(c, a));
 }
 
-namespace {
-// atan2 for y >= 0 by a minimax polynomial (error below 1e-5 rad): the angle sums only feed the
-// curvature weight, and this is the hottest arithmetic of an operation.
-float angle_of(float y, float x) {
-    const float ax = std::abs(x), a = std::min(ax, y) / std::max(ax, y);
-    if (!(a == a)) return 0; // both zero: a degenerate corner
-    const float s = a * a;
-    float r = ((-0.0464964749f * s + 0.15931422f) * s - 0.327622764f) * s * a + a;
-    if (y > ax) r = 1.57079637f - r;
-    if (x < 0) r = 3.14159274f - r;
-    return r;
-}
-} // namespace
-
 void WorkingMesh::update_angles(uint32_t t) {
     const Vec3 p[3] = {point(origin[3 * t]), point(origin[3 * t + 1]), point(origin[3 * t + 2])};
     for (int c = 0; c < 3; ++c) {
         const Vec3 a = sub(p[(c + 1) % 3], p[c]), b = sub(p[(c + 2) % 3], p[c]);
-        angle[3 * t + c] = angle_of(float(norm(cross(a, b))), float(dot(a, b)));
+        angle[3 * t + c] = std::atan2(float(norm(cross(a, b))), float(dot(a, b)));
     }
 }
 

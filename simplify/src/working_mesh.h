@@ -63,7 +63,11 @@ struct WorkingMesh {
     std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
     std::vector<VertexKind> kind;
     std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
-    size_t vertex_count = 0;       // vertices in use (ids below this)
+    // Unit normal of the input surface around each vertex (a new vertex averages its edge's
+    // two): no operation may leave a triangle facing away from its corners' normals, so turns
+    // cannot add up to a flip over many operations.
+    std::vector<float> reference;
+    size_t vertex_count = 0; // vertices in use (ids below this)
 
     // Per half-edge.
     std::vector<uint32_t> origin; // kNone for a retired slot
@@ -78,6 +82,15 @@ struct WorkingMesh {
     // `capacity` is the number of vertex slots to reserve.
     void build(const Surface& surface, size_t capacity, const Limits& limits);
 
+    Vec3 reference_normal(uint32_t v) const {
+        const float* n = &reference[3 * size_t(v)];
+        return {n[0], n[1], n[2]};
+    }
+    // Does a triangle with (unnormalised) normal n face the way of its corners' surface?
+    bool faces_along(const Vec3& n, uint32_t a, uint32_t b, uint32_t c) const {
+        return dot(n, reference_normal(a)) > 0 && dot(n, reference_normal(b)) > 0 &&
+               dot(n, reference_normal(c)) > 0;
+    }
     Vec3 point(uint32_t v) const {
         const float* p = &position[3 * size_t(v)];
         return {p[0], p[1], p[2]};

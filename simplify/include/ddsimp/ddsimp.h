@@ -99,14 +99,15 @@ Topology analyze_topology(const Surface& surface);
 // ---------------------------------------------------------------------------------------------
 
 // Unit-free curvature of every vertex: the absolute angle deficit |2pi - sum(theta)|, or
-// |pi - sum(theta)| at a boundary vertex, divided by pi. Unreferenced vertices get 0.
+// |pi - sum(theta)| at a boundary vertex, divided by pi. Computed on the repaired surface (see
+// `validate`, which may throw); unreferenced and complex (non-manifold) vertices get 0.
 std::vector<float> vertex_curvature(const Surface& surface);
 
 // Unit-free data gradient of every vertex: max over neighbours v_i of
 // ||f_i - f||_1 / ||x_i - x||_1, where each field's components are divided by that field's range
 // (the largest max - min of its components over the surface) and lengths by the bounding-box
 // diagonal. `fields` names the fields that count; empty means all. Throws InputError for an
-// unknown field name.
+// unknown field name. Like vertex_curvature, on the repaired surface; complex vertices get 0.
 std::vector<float> vertex_gradient(const Surface& surface, const std::vector<std::string>& fields);
 
 // ---------------------------------------------------------------------------------------------
