@@ -52,10 +52,11 @@ void Simplifier::refresh_edge(uint32_t h) {
     uint32_t t = mesh_.twin[h];
     if (t != kNone && t < h) std::swap(h, t);
     if (t != kNone) heap_.erase(t);
-    if (collapsible(h))
-        heap_.set(h, collapse_key(h));
-    else
-        heap_.erase(h);
+    if (!collapsible(h)) return; // a stale entry is dropped when it comes up
+    // Only a lighter key moves now; a key left too light is corrected when it comes up
+    // (step_collapse), so the lightest edge is still always the one taken.
+    const HeapKey key = collapse_key(h);
+    if (!heap_.contains(h) || key < heap_.key(h)) heap_.set(h, key);
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
@@ -154,8 +155,9 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
                 ok = false;
             else if (lb > 0 && dot(after, before) < turn_cos * la * lb)
                 ok = false;
-            else if (dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri, qi))
-                ok = false;
+            else if ((dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri)) &&
+                     mesh_.faces_along(before, v, qi, ri))
+                ok = false; // it faced the way of the input surface and would no longer
         });
     };
     check_star(a);
@@ -237,6 +239,15 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
 }
 
 void Simplifier::step_collapse(uint32_t h) {
+    if (!collapsible(h)) {
+        heap_.erase(h);
+        return;
+    }
+    const HeapKey key = collapse_key(h);
+    if (heap_.top_key() < key) { // its weight went up since it was queued
+        heap_.set(h, key);
+        return;
+    }
     heap_.erase(h);
     CollapsePlan plan;
     if (plan_collapse(h, plan)) {

@@ -39,6 +39,7 @@ private:
         uint32_t outer_twin[kMaxValence]; // twin of polygon edge i (ring[i] -> ring[i+1])
         uint8_t outer_line[kMaxValence];
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
+        bool star_faces_along;                 // every star triangle faces its corners' way
         size_t new_count;
         uint8_t triangles[kMaxValence][3];  // new triangles as indices into ring
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)

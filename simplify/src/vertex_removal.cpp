@@ -109,6 +109,11 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     size_t n = fan;
     if (plan.boundary) plan.ring[n++] = mesh_.origin[prev(last)];
     plan.ring_size = n;
+    plan.star_faces_along = true;
+    for (size_t i = 0; i < fan; ++i)
+        plan.star_faces_along =
+            plan.star_faces_along &&
+            mesh_.faces_along(plan.star_normal[i], v, plan.ring[i], plan.ring[(i + 1) % n]);
     if (n < (plan.boundary ? 2u : 3u)) return false;
 
     // Which ring vertices are already joined by an edge (outside the star). A complex vertex's
@@ -202,7 +207,8 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
             if (dot(tn, old) < turn_cos * norm(tn) * norm(old)) return false;
         }
         if (dot(tn, axis) <= 0 ||
-            !mesh_.faces_along(tn, plan.ring[c[0]], plan.ring[c[1]], plan.ring[c[2]]))
+            (plan.star_faces_along &&
+             !mesh_.faces_along(tn, plan.ring[c[0]], plan.ring[c[1]], plan.ring[c[2]])))
             return false;
     }
     return true;
@@ -233,7 +239,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
             const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
                                dot(sub(q, r), sub(q, r));
             if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
-                !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1]))
+                (plan.star_faces_along &&
+                 !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1])))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);

@@ -62,6 +62,22 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
             for (int c = 0; c < 3; ++c)
                 for (int k = 0; k < 3; ++k) sum[3 * size_t(origin[3 * t + c]) + k] += n[k];
         }
+        // Vertex normals of sampled surfaces (marching-cubes staircases, slivers) are noisy;
+        // a few rounds of averaging with the neighbours give the surface's broad direction.
+        std::vector<double> smoothed(sum.size());
+        for (int round = 0; round < kReferenceSmoothing; ++round) {
+            for (size_t v = 0; v < vertex_count; ++v) {
+                const double l =
+                    std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
+                              sum[3 * v + 2] * sum[3 * v + 2]);
+                for (int k = 0; k < 3; ++k) sum[3 * v + k] = l > 0 ? sum[3 * v + k] / l : 0;
+            }
+            smoothed = sum;
+            for (size_t h = 0; h < halfedges; ++h) // each edge direction once per half-edge
+                for (int k = 0; k < 3; ++k)
+                    smoothed[3 * size_t(origin[h]) + k] += sum[3 * size_t(dest(h)) + k];
+            sum.swap(smoothed);
+        }
         for (size_t v = 0; v < vertex_count; ++v) {
             const double l = std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
                                        sum[3 * v + 2] * sum[3 * v + 2]);

@@ -15,6 +15,10 @@
 namespace ddsimp::detail {
 
 inline constexpr uint32_t kNone = 0xffffffffu;
+// How far (cosine) a triangle may face from the input surface's normal at any of its corners.
+inline constexpr double kFacingCos = 0.0;
+// Rounds of neighbour averaging that turn vertex normals into reference normals.
+inline constexpr int kReferenceSmoothing = 4;
 
 inline uint32_t next(uint32_t h) {
     return h % 3 == 2 ? h - 2 : h + 1;
@@ -86,10 +90,10 @@ struct WorkingMesh {
         const float* n = &reference[3 * size_t(v)];
         return {n[0], n[1], n[2]};
     }
-    // Does a triangle with (unnormalised) normal n face the way of its corners' surface?
-    bool faces_along(const Vec3& n, uint32_t a, uint32_t b, uint32_t c) const {
-        return dot(n, reference_normal(a)) > 0 && dot(n, reference_normal(b)) > 0 &&
-               dot(n, reference_normal(c)) > 0;
+    // Does a triangle with (unnormalised) normal n face the way of the surface at its corners?
+    template <class... V> bool faces_along(const Vec3& n, V... corners) const {
+        const double limit = kFacingCos * norm(n);
+        return ((dot(n, reference_normal(corners)) > limit) && ...);
     }
     Vec3 point(uint32_t v) const {
         const float* p = &position[3 * size_t(v)];
