@@ -56,4 +56,11 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+nlohmann::json repairs_json(const RepairReport& r) {
+    return {{"degenerate_triangles_dropped", r.degenerate_triangles_dropped},
+            {"duplicate_triangles_dropped", r.duplicate_triangles_dropped},
+            {"triangles_flipped", r.triangles_flipped},
+            {"unused_vertices", r.unused_vertices}};
+}
+
 } // namespace ddsimp::cli

@@ -3,6 +3,8 @@
 
 #include "ddsimp/ddsimp.h"
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <functional>
 #include <stdexcept>
@@ -46,6 +48,9 @@ private:
     bool active_;
     int shown_ = -1;
 };
+
+// What validate() repaired, as the "repairs" object of --json outputs.
+nlohmann::json repairs_json(const RepairReport& repairs);
 
 // Seconds elapsed since `start`, by the steady clock.
 double seconds_since(std::chrono::steady_clock::time_point start);

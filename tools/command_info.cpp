@@ -81,10 +81,7 @@ int run_info(const InfoArgs& args) {
               {"euler_characteristic", topology.euler_characteristic},
               {"nonmanifold_edges", topology.nonmanifold_edges},
               {"nonmanifold_vertices", topology.nonmanifold_vertices}}},
-            {"repairs",
-             {{"degenerate_triangles_dropped", repairs.degenerate_triangles_dropped},
-              {"duplicate_triangles_dropped", repairs.duplicate_triangles_dropped},
-              {"unused_vertices", repairs.unused_vertices}}},
+            {"repairs", repairs_json(repairs)},
         };
         std::printf("%s\n", out.dump().c_str());
         return kExitOk;

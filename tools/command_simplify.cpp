@@ -29,12 +29,6 @@ struct SimplifyArgs {
     bool json = false;
 };
 
-nlohmann::json repairs_json(const RepairReport& r) {
-    return {{"degenerate_triangles_dropped", r.degenerate_triangles_dropped},
-            {"duplicate_triangles_dropped", r.duplicate_triangles_dropped},
-            {"unused_vertices", r.unused_vertices}};
-}
-
 int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
     Options options;
     options.alpha = args.alpha;
@@ -104,11 +98,12 @@ int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
     std::printf("%s%s\n", result.target_reached ? "target reached" : "target not reached: ",
                 result.target_reached ? "" : describe(result.stop));
     const RepairReport& r = result.repairs;
-    if (r.degenerate_triangles_dropped || r.duplicate_triangles_dropped || r.unused_vertices)
+    if (r.degenerate_triangles_dropped || r.duplicate_triangles_dropped || r.unused_vertices ||
+        r.triangles_flipped)
         std::printf("repaired input: %zu degenerate and %zu duplicate triangles dropped, %zu "
-                    "unused vertices\n",
+                    "flipped to agree with their neighbours, %zu unused vertices\n",
                     r.degenerate_triangles_dropped, r.duplicate_triangles_dropped,
-                    r.unused_vertices);
+                    r.triangles_flipped, r.unused_vertices);
     return kExitOk;
 }
 
