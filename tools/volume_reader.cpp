@@ -1,6 +1,7 @@
 #include "volume_reader.h"
 
 #include "surface_io.h"
+#include "vtk_files.h"
 #include "vtk_messages.h"
 
 #include <vtkAppendFilter.h>
@@ -34,16 +35,7 @@ void update_reader(vtkAlgorithm* reader, const std::string& context) {
 }
 
 vtkSmartPointer<vtkDataObject> read_legacy(const std::string& path, const std::string& context) {
-    auto reader = vtkSmartPointer<vtkDataSetReader>::New();
-    reader->SetFileName(path.c_str());
-    // Without these the legacy reader keeps only the first array of each attribute kind.
-    reader->ReadAllScalarsOn();
-    reader->ReadAllVectorsOn();
-    reader->ReadAllNormalsOn();
-    reader->ReadAllTensorsOn();
-    reader->ReadAllColorScalarsOn();
-    reader->ReadAllTCoordsOn();
-    reader->ReadAllFieldsOn();
+    auto reader = legacy_reader(path);
     update_reader(reader, context);
     if (reader->GetOutput() == nullptr) throw IoError(context + ": not a VTK legacy data set");
     return reader->GetOutput();

@@ -13,13 +13,9 @@
 
 namespace ddsimp::io {
 
-namespace {
-
-Surface read_legacy(const std::string& path, const std::string& context) {
-    VtkMessageCapture messages;
+vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path) {
     auto reader = vtkSmartPointer<vtkDataSetReader>::New();
     reader->SetFileName(path.c_str());
-    // Without these the legacy reader keeps only the first array of each attribute kind.
     reader->ReadAllScalarsOn();
     reader->ReadAllVectorsOn();
     reader->ReadAllNormalsOn();
@@ -27,6 +23,14 @@ Surface read_legacy(const std::string& path, const std::string& context) {
     reader->ReadAllColorScalarsOn();
     reader->ReadAllTCoordsOn();
     reader->ReadAllFieldsOn();
+    return reader;
+}
+
+namespace {
+
+Surface read_legacy(const std::string& path, const std::string& context) {
+    VtkMessageCapture messages;
+    auto reader = legacy_reader(path);
     reader->Update();
     vtkDataSet* data = reader->GetOutput();
     if (messages.has_error()) throw IoError(context + ": " + messages.first_error());

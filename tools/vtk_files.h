@@ -3,6 +3,9 @@
 
 #include "ddsimp/ddsimp.h"
 
+#include <vtkDataSetReader.h>
+#include <vtkSmartPointer.h>
+
 #include <string>
 
 namespace ddsimp::io {
@@ -11,5 +14,9 @@ namespace ddsimp::io {
 Surface read_vtk_file(const std::string& path, const std::string& extension);
 // Legacy .vtk (binary POLYDATA, file version 4.2 for older readers) or XML .vtp (zlib, raw).
 void write_vtk_file(const Surface& surface, const std::string& path, const std::string& extension);
+
+// A legacy .vtk reader set to keep every array (by default it keeps only the first of each
+// attribute kind); not yet updated.
+vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path);
 
 } // namespace ddsimp::io
