@@ -170,7 +170,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     const uint32_t h = plan.halfedge, ht = m.twin[h];
     const uint32_t a = m.origin[h], b = m.dest(h);
     const uint32_t x = m.origin[prev(h)], y = ht != kNone ? m.origin[prev(ht)] : kNone;
-    const uint32_t n = uint32_t(m.vertex_count++);
+    const uint32_t n = a; // the new vertex takes a's slot (see id_)
     const uint32_t t0 = h / 3, t1 = ht != kNone ? ht / 3 : kNone;
 
     // Half-edges that leave a or b and survive; they will leave n.
@@ -228,8 +228,11 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     m.reset_out(x, entry_x);
     if (y != kNone) m.reset_out(y, entry_y);
 
-    record_.collapse_.push_back(a);
-    record_.collapse_.push_back(b);
+    record_.collapse_.push_back(id_[a]);
+    record_.collapse_.push_back(id_[b]);
+    id_[n] = uint32_t(record_.input_vertices_ + operations_);
+    made_.insert(made_.end(), &m.position[3 * size_t(n)], &m.position[3 * size_t(n) + 3]);
+    made_.insert(made_.end(), dn, dn + m.stride);
     ++operations_;
 
     uint32_t changed[2 * kMaxValence + 3];

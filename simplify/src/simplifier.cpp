@@ -46,19 +46,58 @@ template <class F> void parallel_for(size_t n, int threads, F&& f) {
     for (std::thread& t : pool) t.join();
 }
 
+// Vertices renumbered in the order the triangles first use them: a mesher writes triangles in
+// spatial order, so a fan's vertices then sit close together in memory. Unused vertices go last.
+// Returns the input id of each internal id.
+std::vector<uint32_t> locality_order(const Surface& s) {
+    const uint32_t n = uint32_t(s.vertex_count());
+    std::vector<uint32_t> order, rank(n, kNone);
+    order.reserve(n);
+    for (uint32_t v : s.triangles)
+        if (rank[v] == kNone) rank[v] = uint32_t(order.size()), order.push_back(v);
+    for (uint32_t v = 0; v < n; ++v)
+        if (rank[v] == kNone) order.push_back(v);
+    return order;
+}
+
+// The surface with its vertices in `order` (input ids by internal id), triangles unchanged.
+Surface reordered(const Surface& s, const std::vector<uint32_t>& order,
+                  const std::vector<uint32_t>& rank) {
+    Surface r;
+    const size_t n = order.size();
+    r.positions.resize(3 * n);
+    for (size_t v = 0; v < n; ++v)
+        std::copy_n(&s.positions[3 * size_t(order[v])], 3, &r.positions[3 * v]);
+    for (const Field& f : s.fields) {
+        Field g{f.name, f.components, {}};
+        const size_t nc = size_t(f.components);
+        g.values.resize(n * nc);
+        for (size_t v = 0; v < n; ++v) std::copy_n(&f.values[order[v] * nc], nc, &g.values[v * nc]);
+        r.fields.push_back(std::move(g));
+    }
+    r.triangles.resize(s.triangles.size());
+    for (size_t i = 0; i < s.triangles.size(); ++i) r.triangles[i] = rank[s.triangles[i]];
+    return r;
+}
+
 } // namespace
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
     : options_(options),
       // Edge collapse keeps one heap entry per edge (under a half-edge id), vertex removal one
-      // per vertex.
+      // per vertex (under its input id, so that ties break as in the input's numbering).
       heap_(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size()
-                                                       : surface.vertex_count()) {
+                                                       : surface.vertex_count()),
+      input_(surface) {
     check_options(options);
     gradient_.setup(surface, options.gradient_fields);
-    const size_t capacity = options.strategy == Strategy::EdgeCollapse ? 2 * surface.vertex_count()
-                                                                       : surface.vertex_count();
-    mesh_.build(surface, capacity, limits_from(options));
+    // A collapse puts its new vertex in the slot of one of its ends, so the live vertices stay
+    // where the locality order put them and the capacity is the input's.
+    const size_t capacity = surface.vertex_count();
+    id_ = locality_order(surface);
+    rank_.assign(capacity, kNone);
+    for (uint32_t v = 0; v < capacity; ++v) rank_[id_[v]] = v;
+    mesh_.build(reordered(surface, id_, rank_), capacity, limits_from(options));
     stamp_.assign(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size() : capacity,
                   0);
     if (options.strategy == Strategy::EdgeCollapse) {
@@ -71,8 +110,6 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     record_.triangles_in_ = surface.triangle_count();
     record_.input_vertices_ = surface.vertex_count();
     record_.repairs_ = repairs;
-    record_.vertices_.fields = surface.fields;
-    for (Field& f : record_.vertices_.fields) f.values.clear();
     if (options.strategy == Strategy::VertexRemoval) record_.write_begin_.push_back(0);
 
     // Both terms, then their means over the vertices that can take part.
@@ -86,9 +123,11 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     });
     double sum_c = 0, sum_g = 0;
     size_t counted = 0;
-    for (uint32_t v = 0; v < n; ++v)
+    for (uint32_t i = 0; i < n; ++i) { // in input order: the same sums as without the reorder
+        const uint32_t v = rank_[i];
         if (mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead)
             sum_c += curvature[v], sum_g += gradient[v], ++counted;
+    }
     curvature_scale_ = sum_c > 0 ? double(counted) / sum_c : 0;
     gradient_scale_ = sum_g > 0 ? double(counted) / sum_g : 0;
     weight_.assign(capacity, 0);
@@ -104,21 +143,22 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         for (uint32_t v = 0; v < n; ++v) refresh_key(v);
 }
 
-double Simplifier::weight_of(uint32_t v) const {
-    return options_.alpha * mesh_.curvature(v) * curvature_scale_ +
-           (1 - options_.alpha) * gradient_.at(mesh_, v) * gradient_scale_;
-}
-
-void Simplifier::refresh_weight(uint32_t v) {
-    weight_[v] = float(weight_of(v));
+void Simplifier::refresh_vertex(uint32_t v) {
+    // One fan walk: kind, valence, angle sum and steepest neighbour together. Same value as
+    // classify followed by weight_of.
+    detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
+    const double angles = mesh_.classify(v, [&](uint32_t u) { steepest.consider(u); });
+    const bool counted = mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead;
+    weight_[v] = float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
+                       (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
 }
 
 void Simplifier::refresh_key(uint32_t v) {
     const HeapKey key = removal_key(v);
     if (std::isinf(key.weight))
-        heap_.erase(v);
+        heap_.erase(id_[v]);
     else
-        heap_.set(v, key);
+        heap_.set(id_[v], key);
 }
 
 // After an operation: `changed` vertices have new neighbourhoods; their kinds and weights are
@@ -126,8 +166,7 @@ void Simplifier::refresh_key(uint32_t v) {
 // around them (edge collapse); a refused far edge of one of their triangles, whose collapse
 // checks read the triangle's apex, goes back into the heap too.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
-    for (size_t i = 0; i < count; ++i) mesh_.classify(changed[i]);
-    for (size_t i = 0; i < count; ++i) refresh_weight(changed[i]);
+    for (size_t i = 0; i < count; ++i) refresh_vertex(changed[i]);
     if (options_.strategy != Strategy::EdgeCollapse) {
         for (size_t i = 0; i < count; ++i) refresh_key(changed[i]);
         return;
@@ -184,7 +223,7 @@ ProgressiveRecord Simplifier::run() {
         if (options_.strategy == Strategy::EdgeCollapse)
             step_collapse(top);
         else
-            step_removal(top);
+            step_removal(rank_[top]);
         if (operations_ != before) {
             record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
             if (!report_progress(mesh_.live_triangles, target)) {
@@ -195,18 +234,24 @@ ProgressiveRecord Simplifier::run() {
     }
     if (options_.progress && record_.stop_ != StopReason::Cancelled) options_.progress(1.0);
 
-    // Hand the vertices (the input's and those the collapses made) to the record.
-    const size_t nv = mesh_.vertex_count;
+    // Hand the vertices (the input's, then those the collapses made) to the record.
+    const size_t made = 3 + mesh_.stride;
+    const size_t ni = input_.vertex_count(), nv = ni + made_.size() / made;
     Surface& vertices = record_.vertices_;
-    vertices.positions.assign(mesh_.position.begin(), mesh_.position.begin() + 3 * nv);
-    size_t offset = 0;
-    for (Field& f : vertices.fields) {
+    vertices.positions.resize(3 * nv);
+    std::copy(input_.positions.begin(), input_.positions.end(), vertices.positions.begin());
+    for (size_t v = ni; v < nv; ++v)
+        std::copy_n(&made_[(v - ni) * made], 3, &vertices.positions[3 * v]);
+    size_t offset = 3;
+    for (const Field& in : input_.fields) {
+        Field f{in.name, in.components, {}};
         const size_t nc = size_t(f.components);
         f.values.resize(nv * nc);
-        for (size_t v = 0; v < nv; ++v)
-            for (size_t c = 0; c < nc; ++c)
-                f.values[v * nc + c] = mesh_.data[v * mesh_.stride + offset + c];
+        std::copy(in.values.begin(), in.values.end(), f.values.begin());
+        for (size_t v = ni; v < nv; ++v)
+            std::copy_n(&made_[(v - ni) * made + offset], nc, &f.values[v * nc]);
         offset += nc;
+        vertices.fields.push_back(std::move(f));
     }
     return std::move(record_);
 }

@@ -12,7 +12,7 @@ namespace ddsimp {
 
 class Simplifier {
 public:
-    // `surface` must have passed `validate`.
+    // `surface` must have passed `validate` and must outlive run().
     Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs);
     ProgressiveRecord run();
 
@@ -46,8 +46,8 @@ private:
     };
 
     // simplifier.cpp: weights, keys, the main loop.
-    double weight_of(uint32_t v) const;
-    void refresh_weight(uint32_t v);
+    // Re-classifies v and recomputes its weight.
+    void refresh_vertex(uint32_t v);
     void refresh_key(uint32_t v); // vertex removal: the heap holds vertices
 
     void refresh_around(const uint32_t* changed, size_t count);
@@ -88,6 +88,13 @@ private:
     // refused h; epoch_[v] is 1 + the operation count when v's star last changed. A refusal
     // stands while no end or apex of the edge has changed since (the checks read nothing else).
     std::vector<uint32_t> fail_, epoch_;
+    // The validated input: it must outlive run(), which copies its vertices into the record.
+    const Surface& input_;
+    // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:
+    // id_[v] is the record's id of the vertex in slot v (its input id, or input vertices + i for
+    // the point collapse i made), rank_ the internal id of each input vertex.
+    std::vector<uint32_t> id_, rank_;
+    std::vector<float> made_; // per collapse: the new point and its data (stride values)
     ProgressiveRecord record_;
 };
 

@@ -323,7 +323,10 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     for (size_t t = 0; t < fan; ++t) {
         const uint32_t slot = plan.star[t];
         record_.writes_.push_back(slot);
-        for (int c = 0; c < 3; ++c) record_.writes_.push_back(m.origin[3 * slot + c]);
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t v = m.origin[3 * slot + c];
+            record_.writes_.push_back(v == kNone ? kNone : id_[v]);
+        }
     }
     record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
     ++operations_;
@@ -331,7 +334,7 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
 }
 
 void Simplifier::step_removal(uint32_t v) {
-    heap_.erase(v);
+    heap_.erase(id_[v]);
     RemovalPlan plan;
     if (plan_removal(v, plan)) apply_removal(plan);
     // Otherwise v stays out until a change in its neighbourhood puts it back.

@@ -55,26 +55,14 @@ void GradientTerms::setup(const Surface& s, const std::vector<std::string>& fiel
 double GradientTerms::at(const WorkingMesh& mesh, uint32_t v) const {
     if (components.empty() || inv_diagonal == 0) return 0;
     if (mesh.kind[v] == VertexKind::Complex || mesh.kind[v] == VertexKind::Dead) return 0;
-    const float* f = &mesh.data[v * mesh.stride];
-    const float* x = &mesh.position[3 * size_t(v)];
-    // Compare df / dx without dividing: keep the best pair (df, dx).
-    float best_df = 0, best_dx = 1;
-    auto consider = [&](uint32_t u) {
-        const float* fu = &mesh.data[u * mesh.stride];
-        const float* xu = &mesh.position[3 * size_t(u)];
-        const float dx = std::abs(xu[0] - x[0]) + std::abs(xu[1] - x[1]) + std::abs(xu[2] - x[2]);
-        if (dx <= 0) return; // coincident points: no direction to take a gradient along
-        float df = 0;
-        for (const auto& [c, s] : components) df += std::abs(fu[c] - f[c]) * s;
-        if (df * best_dx > best_df * dx) best_df = df, best_dx = dx;
-    };
+    Steepest steepest(*this, mesh, v);
     uint32_t last = kNone;
     mesh.for_each_outgoing(v, [&](uint32_t h) {
-        consider(mesh.dest(h));
+        steepest.consider(mesh.dest(h));
         last = h;
     });
-    if (mesh.twin[prev(last)] == kNone) consider(mesh.origin[prev(last)]);
-    return double(best_df) / (double(best_dx) * inv_diagonal);
+    if (mesh.twin[prev(last)] == kNone) steepest.consider(mesh.origin[prev(last)]);
+    return steepest.value();
 }
 
 } // namespace ddsimp::detail

@@ -139,45 +139,6 @@ void WorkingMesh::reset_out(uint32_t v, uint32_t h) {
     out[v] = h;
 }
 
-void WorkingMesh::classify(uint32_t v) {
-    if (kind[v] == VertexKind::Dead) return;
-    if (kind[v] == VertexKind::Complex) {
-        valence[v] = 0xffff; // never part of an operation
-        return;
-    }
-    uint32_t ends[2];
-    int lines = 0;
-    uint32_t last = kNone, neighbours = 0;
-    for_each_outgoing(v, [&](uint32_t h) {
-        if (line[h]) {
-            if (lines < 2) ends[lines] = dest(h);
-            ++lines;
-        }
-        last = h;
-        ++neighbours;
-    });
-    const uint32_t incoming = prev(last);
-    if (twin[incoming] == kNone) { // the boundary edge that closes the fan
-        if (lines < 2) ends[lines] = origin[incoming];
-        ++lines;
-        ++neighbours;
-    }
-    valence[v] = uint16_t(std::min(neighbours, 0xffffu));
-    if (lines == 0) {
-        kind[v] = VertexKind::Free;
-        return;
-    }
-    if (lines == 2) {
-        const Vec3 p = point(v), in = sub(p, point(ends[0])), on = sub(point(ends[1]), p);
-        const double l = norm(in) * norm(on);
-        if (l > 0 && dot(in, on) >= limits.straight_cos * l) {
-            kind[v] = VertexKind::Line;
-            return;
-        }
-    }
-    kind[v] = VertexKind::Corner;
-}
-
 double WorkingMesh::curvature(uint32_t v) const {
     if (kind[v] == VertexKind::Complex || kind[v] == VertexKind::Dead) return 0;
     double angles = 0;

@@ -7,9 +7,11 @@
 
 #include "ddsimp/ddsimp.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <vector>
 
 namespace ddsimp::detail {
@@ -120,10 +122,62 @@ struct WorkingMesh {
     // Points `out[v]` at the fan's first half-edge (the one without a twin, if any), starting
     // the search at outgoing half-edge `h`.
     void reset_out(uint32_t v, uint32_t h);
-    // Recomputes the kind and valence of v from its fan, line edges and their straightness.
-    void classify(uint32_t v);
+    // Recomputes the kind and valence of v from its fan, line edges and their straightness. The
+    // same walk calls visit(u) for every neighbour u in ring order and returns the sum of v's
+    // angles (0 for a complex or dead vertex), so that a weight needs no second walk.
+    template <class F> double classify(uint32_t v, F&& visit);
+    void classify(uint32_t v) {
+        classify(v, [](uint32_t) {});
+    }
+    // Unit-free curvature from the angle sum that classify returned.
+    double curvature_from(uint32_t v, double angles) const {
+        if (kind[v] == VertexKind::Complex || kind[v] == VertexKind::Dead) return 0;
+        const double full = is_boundary_vertex(v) ? std::numbers::pi : 2 * std::numbers::pi;
+        return std::abs(full - angles) / std::numbers::pi;
+    }
     // Unit-free curvature: |2pi - sum of angles| (|pi - ...| on a boundary) / pi.
     double curvature(uint32_t v) const;
 };
+
+template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
+    if (kind[v] == VertexKind::Dead) return 0;
+    if (kind[v] == VertexKind::Complex) {
+        valence[v] = 0xffff; // never part of an operation
+        return 0;
+    }
+    uint32_t ends[2];
+    int lines = 0;
+    uint32_t last = kNone, neighbours = 0;
+    double angles = 0;
+    for_each_outgoing(v, [&](uint32_t h) {
+        const uint32_t d = dest(h);
+        visit(d);
+        angles += angle[h];
+        if (line[h]) {
+            if (lines < 2) ends[lines] = d;
+            ++lines;
+        }
+        last = h;
+        ++neighbours;
+    });
+    const uint32_t incoming = prev(last);
+    if (twin[incoming] == kNone) { // the boundary edge that closes the fan
+        const uint32_t o = origin[incoming];
+        visit(o);
+        if (lines < 2) ends[lines] = o;
+        ++lines;
+        ++neighbours;
+    }
+    valence[v] = uint16_t(std::min(neighbours, 0xffffu));
+    kind[v] = VertexKind::Corner;
+    if (lines == 0) {
+        kind[v] = VertexKind::Free;
+    } else if (lines == 2) {
+        const Vec3 p = point(v), in = sub(p, point(ends[0])), on = sub(point(ends[1]), p);
+        const double l = norm(in) * norm(on);
+        if (l > 0 && dot(in, on) >= limits.straight_cos * l) kind[v] = VertexKind::Line;
+    }
+    return angles;
+}
 
 } // namespace ddsimp::detail
