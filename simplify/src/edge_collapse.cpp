@@ -52,11 +52,11 @@ void Simplifier::refresh_edge(uint32_t h) {
     uint32_t t = mesh_.twin[h];
     if (t != kNone && t < h) std::swap(h, t);
     if (t != kNone) heap_.erase(t);
-    if (!collapsible(h)) return; // a stale entry is dropped when it comes up
     // Only a lighter key moves now; a key left too light is corrected when it comes up
-    // (step_collapse), so the lightest edge is still always the one taken.
+    // (step_collapse), so the lightest edge is still always the one taken. A stale entry is
+    // dropped when it comes up, so only a move or an insertion needs the (dearer) checks.
     const HeapKey key = collapse_key(h);
-    if (!heap_.contains(h) || key < heap_.key(h)) heap_.set(h, key);
+    if ((!heap_.contains(h) || key < heap_.key(h)) && collapsible(h)) heap_.set(h, key);
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
@@ -67,6 +67,22 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     // A removed triangle must keep at least one neighbour, or it would leave a dangling edge.
     if (mesh_.twin[next(h)] == kNone && mesh_.twin[prev(h)] == kNone) return false;
     if (ht != kNone && mesh_.twin[next(ht)] == kNone && mesh_.twin[prev(ht)] == kNone) return false;
+
+    // A refusal for a folding triangle that is still there and still folds stands: test that
+    // triangle first (the checks are a conjunction, so the answer is the same, only sooner).
+    plan.refused_at = kNone;
+    bool placed = false;
+    if (const uint32_t g = fail_at_[h]; g != kNone) {
+        const uint32_t v = mesh_.origin[g], t = g / 3;
+        if ((v == a || v == b) && t != h / 3 && (ht == kNone || t != ht / 3)) {
+            place(h, plan);
+            placed = true;
+            if (!keeps_facing(g, plan.point, ref_of(a, b))) {
+                plan.refused_at = g;
+                return false;
+            }
+        }
+    }
 
     // Link condition: a and b share exactly the apexes of the edge's triangles as neighbours.
     uint32_t ring_a[kMaxValence], ring_b[kMaxValence];
@@ -86,7 +102,47 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
             !mesh_.is_boundary_vertex(apex) && mesh_.valence[apex] == 3)
             return false;
 
-    // Where the new point goes.
+    if (!placed) place(h, plan);
+    // No remaining triangle may flip, fold or turn its normal by more than the limit.
+    const Vec3 ref = ref_of(a, b);
+    bool ok = true;
+    auto check_star = [&](uint32_t v) {
+        mesh_.for_each_outgoing(v, [&](uint32_t g) {
+            const uint32_t t = g / 3;
+            if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
+            if (!keeps_facing(g, plan.point, ref)) ok = false, plan.refused_at = g;
+        });
+    };
+    check_star(a);
+    check_star(b);
+    return ok;
+}
+
+// Triangle g / 3 of the star of origin[g], with origin[g] moved to p: it must not degenerate,
+// turn its normal by more than the limit, or stop facing the way of the input surface.
+bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref) const {
+    const uint32_t v = mesh_.origin[g], qi = mesh_.dest(g), ri = mesh_.origin[prev(g)];
+    const Vec3 pv = mesh_.point(v), q = mesh_.point(qi), r = mesh_.point(ri);
+    const Vec3 before = cross(sub(q, pv), sub(r, pv));
+    const Vec3 after = cross(sub(q, p), sub(r, p));
+    const double la = norm(after), lb = norm(before);
+    const Vec3 qp = sub(q, p), rp = sub(r, p);
+    if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp))) return false;
+    if (lb > 0 && dot(after, before) < mesh_.limits.normal_turn_cos * la * lb) return false;
+    // It faced the way of the input surface and would no longer.
+    if ((dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri)) &&
+        mesh_.faces_along(before, v, qi, ri))
+        return false;
+    return true;
+}
+
+Vec3 Simplifier::ref_of(uint32_t a, uint32_t b) const {
+    return add(mesh_.reference_normal(a), mesh_.reference_normal(b));
+}
+
+// Where the new point of collapsing h goes, and its position along the edge.
+void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
+    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
     const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
     const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
     Vec3 p = scale(add(pa, pb), 0.5);
@@ -135,34 +191,6 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     plan.along = ee > 0 ? std::clamp(dot(sub(p, pa), edge) / ee, 0.0, 1.0) : 0.5;
     plan.point = p;
     plan.halfedge = h;
-
-    // No remaining triangle may flip, fold or turn its normal by more than the limit.
-    const double turn_cos = mesh_.limits.normal_turn_cos;
-    Vec3 ref = add(mesh_.reference_normal(a), mesh_.reference_normal(b));
-    bool ok = true;
-    auto check_star = [&](uint32_t v) {
-        const Vec3 pv = mesh_.point(v);
-        mesh_.for_each_outgoing(v, [&](uint32_t g) {
-            const uint32_t t = g / 3;
-            if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
-            const uint32_t qi = mesh_.dest(g), ri = mesh_.origin[prev(g)];
-            const Vec3 q = mesh_.point(qi), r = mesh_.point(ri);
-            const Vec3 before = cross(sub(q, pv), sub(r, pv));
-            const Vec3 after = cross(sub(q, p), sub(r, p));
-            const double la = norm(after), lb = norm(before);
-            const Vec3 qp = sub(q, p), rp = sub(r, p);
-            if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp)))
-                ok = false;
-            else if (lb > 0 && dot(after, before) < turn_cos * la * lb)
-                ok = false;
-            else if ((dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri)) &&
-                     mesh_.faces_along(before, v, qi, ri))
-                ok = false; // it faced the way of the input surface and would no longer
-        });
-    };
-    check_star(a);
-    check_star(b);
-    return ok;
 }
 
 void Simplifier::apply_collapse(const CollapsePlan& plan) {
@@ -259,7 +287,9 @@ void Simplifier::step_collapse(uint32_t h) {
     }
     // Refused: it stays out of the heap until a change around it refreshes it.
     fail_[h] = uint32_t(operations_ + 1);
-    if (mesh_.twin[h] != kNone) fail_[mesh_.twin[h]] = fail_[h];
+    fail_at_[h] = plan.refused_at;
+    if (mesh_.twin[h] != kNone)
+        fail_[mesh_.twin[h]] = fail_[h], fail_at_[mesh_.twin[h]] = plan.refused_at;
 }
 
 } // namespace ddsimp

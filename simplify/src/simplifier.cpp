@@ -102,6 +102,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
                   0);
     if (options.strategy == Strategy::EdgeCollapse) {
         fail_.assign(surface.triangles.size(), 0);
+        fail_at_.assign(surface.triangles.size(), kNone);
         epoch_.assign(capacity, 0);
     }
 

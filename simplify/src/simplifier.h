@@ -27,7 +27,8 @@ private:
     struct CollapsePlan {
         uint32_t halfedge;
         detail::Vec3 point;
-        double along; // position of `point` along the edge, for the data
+        double along;        // position of `point` along the edge, for the data
+        uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
     struct RemovalPlan {
@@ -61,6 +62,9 @@ private:
     detail::HeapKey collapse_key(uint32_t h) const;
     void refresh_edge(uint32_t h);
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
+    void place(uint32_t h, CollapsePlan& plan) const;
+    bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
+    detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
     void apply_collapse(const CollapsePlan& plan);
     void step_collapse(uint32_t h);
 
@@ -88,6 +92,9 @@ private:
     // refused h; epoch_[v] is 1 + the operation count when v's star last changed. A refusal
     // stands while no end or apex of the edge has changed since (the checks read nothing else).
     std::vector<uint32_t> fail_, epoch_;
+    // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
+    // (kNone: another check refused it); plan_collapse tests it first.
+    std::vector<uint32_t> fail_at_;
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;
     // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:

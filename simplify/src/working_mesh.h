@@ -94,6 +94,8 @@ struct WorkingMesh {
     }
     // Does a triangle with (unnormalised) normal n face the way of the surface at its corners?
     template <class... V> bool faces_along(const Vec3& n, V... corners) const {
+        if constexpr (kFacingCos == 0) // the limit is 0 x |n| = 0: no square root needed
+            return ((dot(n, reference_normal(corners)) > 0) && ...);
         const double limit = kFacingCos * norm(n);
         return ((dot(n, reference_normal(corners)) > limit) && ...);
     }
