@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -27,19 +28,20 @@ public:
 
     bool empty() const { return heap_.empty(); }
     uint32_t top() const { return heap_.front().id; }
-    const HeapKey& top_key() const { return heap_.front().key; }
+    HeapKey top_key() const { return heap_.front().key(); }
     bool contains(uint32_t id) const { return slot_[id] != kAbsent; }
     // The key of an id in the heap.
-    const HeapKey& key(uint32_t id) const { return heap_[slot_[id]].key; }
+    HeapKey key(uint32_t id) const { return heap_[slot_[id]].key(); }
 
     // Inserts id, or moves it to its new key.
     void set(uint32_t id, const HeapKey& key) {
         uint32_t at = slot_[id];
+        const Entry e = Entry::make(key, id);
         if (at == kAbsent) {
             at = uint32_t(heap_.size());
-            heap_.push_back({key, id});
+            heap_.push_back(e);
         } else {
-            heap_[at].key = key;
+            heap_[at] = e;
         }
         sift_down(sift_up(at));
     }
@@ -50,17 +52,39 @@ public:
         heap_.pop_back();
         slot_[id] = kAbsent;
         if (last.id == id) return;
+        if (at == 0) return pop_into_root(last);
         heap_[at] = last;
         slot_[last.id] = at;
         sift_down(sift_up(at));
     }
 
 private:
+    // A key packed into one integer that orders as HeapKey does: each float mapped to an
+    // unsigned integer in the same order (-0 first made +0, as the float comparison equates
+    // them), weight in the high half. One integer comparison instead of a chain of float ones.
     struct Entry {
-        HeapKey key;
-        uint32_t id;
+        uint32_t tie_bits, weight_bits, id;
+
+        static uint32_t bits(float f) {
+            f += 0.0f; // -0 -> +0
+            uint32_t u;
+            std::memcpy(&u, &f, sizeof u);
+            return u & 0x80000000u ? ~u : u | 0x80000000u;
+        }
+        static float value(uint32_t u) {
+            u = u & 0x80000000u ? u & 0x7fffffffu : ~u;
+            float f;
+            std::memcpy(&f, &u, sizeof f);
+            return f;
+        }
+        static Entry make(const HeapKey& k, uint32_t id) {
+            return {bits(k.tie), bits(k.weight), id};
+        }
+        HeapKey key() const { return {value(weight_bits), value(tie_bits)}; }
+        uint64_t order() const { return uint64_t(weight_bits) << 32 | tie_bits; }
         bool operator<(const Entry& o) const {
-            return key < o.key || (!(o.key < key) && id < o.id);
+            const uint64_t a = order(), b = o.order();
+            return a < b || (a == b && id < o.id);
         }
     };
     static constexpr uint32_t kAbsent = std::numeric_limits<uint32_t>::max();
@@ -68,6 +92,14 @@ private:
     void place(uint32_t at, const Entry& e) {
         heap_[at] = e;
         slot_[e.id] = at;
+    }
+    // The lightest of the children of `at` (which has at least one).
+    uint32_t least_child(uint32_t at, uint32_t n) const {
+        const uint32_t first = 4 * at + 1, end = std::min(first + 4, n);
+        uint32_t child = first;
+        for (uint32_t c = first + 1; c < end; ++c)
+            if (heap_[c] < heap_[child]) child = c;
+        return child;
     }
     uint32_t sift_up(uint32_t at) {
         const Entry e = heap_[at];
@@ -83,18 +115,27 @@ private:
     void sift_down(uint32_t at) {
         const Entry e = heap_[at];
         const uint32_t n = uint32_t(heap_.size());
-        for (;;) {
-            const uint32_t first = 4 * at + 1;
-            if (first >= n) break;
-            uint32_t child = first;
-            const uint32_t end = std::min(first + 4, n);
-            for (uint32_t c = first + 1; c < end; ++c)
-                if (heap_[c] < heap_[child]) child = c;
+        while (4 * at + 1 < n) {
+            const uint32_t child = least_child(at, n);
             if (!(heap_[child] < e)) break;
             place(at, heap_[child]);
             at = child;
         }
         place(at, e);
+    }
+    // Removing the top: the last entry rarely belongs high up, so move the hole down to a leaf
+    // along the lighter children, then let the last entry rise from there (fewer comparisons
+    // than sifting it down from the root; the heap's top is the same either way).
+    void pop_into_root(const Entry& last) {
+        const uint32_t n = uint32_t(heap_.size());
+        uint32_t at = 0;
+        while (4 * at + 1 < n) {
+            const uint32_t child = least_child(at, n);
+            place(at, heap_[child]);
+            at = child;
+        }
+        place(at, last);
+        sift_up(at);
     }
 
     std::vector<Entry> heap_;
