@@ -145,13 +145,26 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
 }
 
 void Simplifier::refresh_vertex(uint32_t v) {
-    // One fan walk: kind, valence, angle sum and steepest neighbour together. Same value as
-    // classify followed by weight_of.
+    // One fan walk: kind, valence, angle sum, steepest neighbour and, for vertex removal, the
+    // shortest edge (the key's tie-break). Same values as classify, weight and removal_key.
     detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
-    const double angles = mesh_.classify(v, [&](uint32_t u) { steepest.consider(u); });
-    const bool counted = mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead;
+    const bool removal = options_.strategy == Strategy::VertexRemoval;
+    const detail::Vec3 p = mesh_.point(v);
+    double shortest = INFINITY;
+    const double angles = mesh_.classify(v, [&](uint32_t u, bool closing) {
+        steepest.consider(u);
+        if (removal && !closing)
+            shortest = std::min(shortest, detail::norm(detail::sub(mesh_.point(u), p)));
+    });
+    const VertexKind k = mesh_.kind[v];
+    const bool counted = k != VertexKind::Complex && k != VertexKind::Dead;
     weight_[v] = float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
                        (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
+    if (!removal) return;
+    if ((k != VertexKind::Free && k != VertexKind::Line) || std::isinf(weight_[v]))
+        heap_.erase(id_[v]);
+    else
+        heap_.set(id_[v], HeapKey{weight_[v], float(shortest)});
 }
 
 void Simplifier::refresh_key(uint32_t v) {
@@ -168,10 +181,7 @@ void Simplifier::refresh_key(uint32_t v) {
 // checks read the triangle's apex, goes back into the heap too.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) refresh_vertex(changed[i]);
-    if (options_.strategy != Strategy::EdgeCollapse) {
-        for (size_t i = 0; i < count; ++i) refresh_key(changed[i]);
-        return;
-    }
+    if (options_.strategy != Strategy::EdgeCollapse) return; // refresh_vertex set the keys
     for (size_t i = 0; i < count; ++i) epoch_[changed[i]] = uint32_t(operations_ + 1);
     ++stamp_now_;
     auto refresh = [&](uint32_t h) {

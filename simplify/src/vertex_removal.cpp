@@ -47,11 +47,20 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
     for (size_t i = 0; i < plan.ring_size; ++i)
         extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
     const double eps = 1e-12 * extent * extent;
+    // Ears found good, by their middle vertex, with their shape. An ear stays good while its
+    // two neighbours stay: clipping only removes points that could lie inside it. A bad one is
+    // tested again (a clipped point may have been what spoilt it).
+    uint64_t good = 0;
+    double good_shape[kMaxValence];
     while (n >= 3) {
         size_t best = n;
         double best_shape = -1;
         for (size_t i = 0; i < n; ++i) {
             const uint8_t p = left[(i + n - 1) % n], c = left[i], q = left[(i + 1) % n];
+            if (good >> c & 1) {
+                if (good_shape[c] > best_shape) best_shape = good_shape[c], best = i;
+                continue;
+            }
             if (orient(xy[p], xy[c], xy[q]) <= eps) continue; // reflex or flat
             // The new edge p-q must not exist already (it would be non-manifold), unless this is
             // the last triangle, whose edges are all there by construction.
@@ -65,12 +74,14 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
             }
             if (!empty) continue;
             const double s = shape(xy[p], xy[c], xy[q]);
+            good |= uint64_t(1) << c, good_shape[c] = s;
             if (s > best_shape) best_shape = s, best = i;
         }
         if (best == n) return false;
         if (out.new_count == kMaxValence) return false;
         uint8_t* t = out.triangles[out.new_count++];
         t[0] = left[(best + n - 1) % n], t[1] = left[best], t[2] = left[(best + 1) % n];
+        good &= ~(uint64_t(1) << t[0] | uint64_t(1) << t[2]); // their ears change
         std::copy(left + best + 1, left + n, left + best);
         --n;
     }

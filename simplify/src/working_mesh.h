@@ -125,11 +125,12 @@ struct WorkingMesh {
     // the search at outgoing half-edge `h`.
     void reset_out(uint32_t v, uint32_t h);
     // Recomputes the kind and valence of v from its fan, line edges and their straightness. The
-    // same walk calls visit(u) for every neighbour u in ring order and returns the sum of v's
-    // angles (0 for a complex or dead vertex), so that a weight needs no second walk.
+    // same walk calls visit(u, closing) for every neighbour u in ring order (closing: u only
+    // closes a boundary fan, no half-edge leaves v towards it) and returns the sum of v's angles
+    // (0 for a complex or dead vertex), so that a weight needs no second walk.
     template <class F> double classify(uint32_t v, F&& visit);
     void classify(uint32_t v) {
-        classify(v, [](uint32_t) {});
+        classify(v, [](uint32_t, bool) {});
     }
     // Unit-free curvature from the angle sum that classify returned.
     double curvature_from(uint32_t v, double angles) const {
@@ -153,7 +154,7 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     double angles = 0;
     for_each_outgoing(v, [&](uint32_t h) {
         const uint32_t d = dest(h);
-        visit(d);
+        visit(d, false);
         angles += angle[h];
         if (line[h]) {
             if (lines < 2) ends[lines] = d;
@@ -165,7 +166,7 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     const uint32_t incoming = prev(last);
     if (twin[incoming] == kNone) { // the boundary edge that closes the fan
         const uint32_t o = origin[incoming];
-        visit(o);
+        visit(o, true);
         if (lines < 2) ends[lines] = o;
         ++lines;
         ++neighbours;
