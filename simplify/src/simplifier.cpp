@@ -111,7 +111,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     record_.triangles_in_ = surface.triangle_count();
     record_.input_vertices_ = surface.vertex_count();
     record_.repairs_ = repairs;
-    if (options.strategy == Strategy::VertexRemoval) record_.write_begin_.push_back(0);
+    if (options.strategy == Strategy::VertexRemoval) {
+        record_.write_begin_.push_back(0);
+        ring_at_.assign(capacity, kNotInRing);
+    }
 
     // Both terms, then their means over the vertices that can take part.
     const size_t n = surface.vertex_count();

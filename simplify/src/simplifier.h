@@ -102,6 +102,9 @@ private:
     // the point collapse i made), rank_ the internal id of each input vertex.
     std::vector<uint32_t> id_, rank_;
     std::vector<float> made_; // per collapse: the new point and its data (stride values)
+    // Vertex removal's scratch: a vertex's position in the ring being planned, or kNotInRing.
+    static constexpr uint8_t kNotInRing = 0xff;
+    mutable std::vector<uint8_t> ring_at_;
     ProgressiveRecord record_;
 };
 

@@ -133,17 +133,34 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     uint64_t adjacent[kMaxValence] = {};
     uint32_t neighbours[kMaxValence];
     uint64_t complex = 0;
-    for (size_t i = 0; i < n; ++i) {
+    // Each ring vertex's position in the ring (scratch, cleared again below), so that finding a
+    // neighbour in the ring is one look-up; a ring holding a vertex twice takes the long way.
+    bool repeated = false, listed = true;
+    for (size_t r = 0; r < n; ++r) {
+        uint8_t& at = ring_at_[plan.ring[r]];
+        if (at != kNotInRing)
+            repeated = true;
+        else
+            at = uint8_t(r);
+    }
+    for (size_t i = 0; i < n && listed; ++i) {
         if (mesh_.kind[plan.ring[i]] == VertexKind::Complex) {
             complex |= uint64_t(1) << i;
             continue;
         }
         const size_t m = mesh_.ring(plan.ring[i], neighbours, kMaxValence);
-        if (m == 0) return false;
+        listed = m != 0;
         for (size_t j = 0; j < m; ++j)
-            for (size_t r = 0; r < n; ++r)
-                if (plan.ring[r] == neighbours[j]) adjacent[i] |= uint64_t(1) << r;
+            if (!repeated) {
+                const uint8_t r = ring_at_[neighbours[j]];
+                if (r != kNotInRing) adjacent[i] |= uint64_t(1) << r;
+            } else {
+                for (size_t r = 0; r < n; ++r)
+                    if (plan.ring[r] == neighbours[j]) adjacent[i] |= uint64_t(1) << r;
+            }
     }
+    for (size_t r = 0; r < n; ++r) ring_at_[plan.ring[r]] = kNotInRing;
+    if (!listed) return false;
     for (size_t i = 0; i < n; ++i)
         if (complex >> i & 1) {
             adjacent[i] = complex;
@@ -239,7 +256,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
         double worst = 1;
         bool ok = true;
         // Triangle (j, i, i + 1) replaces the star's (v, i, i + 1): v moves onto ring[j].
-        for (size_t k = 1; k + 1 < n && ok; ++k) {
+        // worst only falls, so j cannot win once it is no better than the best so far.
+        for (size_t k = 1; k + 1 < n && ok && worst > best_shape; ++k) {
             const size_t i = (j + k) % n, i1 = (i + 1) % n;
             if (plan.boundary && i == n - 1) break;
             if (k >= 2 && (adjacent[j] >> i & 1)) ok = false; // the diagonal j-i exists
