@@ -93,11 +93,17 @@ private:
         heap_[at] = e;
         slot_[e.id] = at;
     }
-    // The lightest of the children of `at` (which has at least one).
+    // The lightest of the children of `at` (which has at least one). With all four there, two
+    // independent pairs then their winners: the order is total, so the same child either way.
     uint32_t least_child(uint32_t at, uint32_t n) const {
-        const uint32_t first = 4 * at + 1, end = std::min(first + 4, n);
+        const uint32_t first = 4 * at + 1;
+        if (first + 4 <= n) {
+            const uint32_t l = heap_[first + 1] < heap_[first] ? first + 1 : first;
+            const uint32_t r = heap_[first + 3] < heap_[first + 2] ? first + 3 : first + 2;
+            return heap_[r] < heap_[l] ? r : l;
+        }
         uint32_t child = first;
-        for (uint32_t c = first + 1; c < end; ++c)
+        for (uint32_t c = first + 1; c < n; ++c)
             if (heap_[c] < heap_[child]) child = c;
         return child;
     }
