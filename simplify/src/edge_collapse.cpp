@@ -238,9 +238,9 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
 
     // The new vertex.
     for (int c = 0; c < 3; ++c) m.position[3 * size_t(n) + c] = float(plan.point[c]);
-    const float* da = &m.data[a * m.stride];
-    const float* db = &m.data[b * m.stride];
-    float* dn = &m.data[n * m.stride];
+    const float* da = m.data.data() + a * m.stride;
+    const float* db = m.data.data() + b * m.stride;
+    float* dn = m.data.data() + n * m.stride;
     for (size_t c = 0; c < m.stride; ++c)
         dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
     m.kind[a] = m.kind[b] = VertexKind::Dead;

@@ -25,12 +25,12 @@ struct GradientTerms {
     class Steepest {
     public:
         Steepest(const GradientTerms& terms, const WorkingMesh& mesh, uint32_t v)
-            : terms_(terms), mesh_(mesh), f_(&mesh.data[v * mesh.stride]),
+            : terms_(terms), mesh_(mesh), f_(mesh.data.data() + v * mesh.stride),
               x_(&mesh.position[3 * size_t(v)]),
               active_(!terms.components.empty() && terms.inv_diagonal != 0) {}
         void consider(uint32_t u) {
             if (!active_) return;
-            const float* fu = &mesh_.data[u * mesh_.stride];
+            const float* fu = mesh_.data.data() + u * mesh_.stride;
             const float* xu = &mesh_.position[3 * size_t(u)];
             const float dx =
                 std::abs(xu[0] - x_[0]) + std::abs(xu[1] - x_[1]) + std::abs(xu[2] - x_[2]);
