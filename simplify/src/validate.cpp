@@ -64,9 +64,11 @@ void check_fields(const Surface& s) {
 // drops triangles that name a vertex twice.
 void drop_bad_triangles(Surface& s, RepairReport& report) {
     const size_t count = s.triangle_count();
-    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys;
-    keys.reserve(count);
+    // Each triangle's vertices sorted; triangles bucketed by their lowest vertex (counting sort,
+    // in triangle order), so that a duplicate is found among the few earlier ones of its bucket.
+    std::vector<std::array<uint32_t, 3>> keys(count);
     std::vector<uint8_t> keep(count, 1);
+    std::vector<uint32_t> first(s.vertex_count() + 1, 0);
     for (uint32_t t = 0; t < count; ++t) {
         std::array<uint32_t, 3> k{s.triangles[3 * t], s.triangles[3 * t + 1],
                                   s.triangles[3 * t + 2]};
@@ -76,14 +78,32 @@ void drop_bad_triangles(Surface& s, RepairReport& report) {
             continue;
         }
         std::sort(k.begin(), k.end());
-        keys.push_back({k, t});
+        keys[t] = k;
+        ++first[k[0] + 1];
     }
-    std::sort(keys.begin(), keys.end());
-    for (size_t i = 1; i < keys.size(); ++i)
-        if (keys[i].first == keys[i - 1].first) {
-            keep[keys[i].second] = 0;
-            ++report.duplicate_triangles_dropped;
+    for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+    std::vector<uint32_t> bucket(first.back()), fill(first.begin(), first.end() - 1);
+    for (uint32_t t = 0; t < count; ++t)
+        if (keep[t]) bucket[fill[keys[t][0]]++] = t;
+    auto drop = [&](uint32_t t) { keep[t] = 0, ++report.duplicate_triangles_dropped; };
+    for (size_t v = 0; v + 1 < first.size(); ++v) {
+        const uint32_t begin = first[v], end = first[v + 1];
+        if (end - begin <= 16) { // the usual few: compare with the earlier ones
+            for (uint32_t i = begin; i < end; ++i)
+                for (uint32_t j = begin; j < i; ++j)
+                    if (keys[bucket[j]] == keys[bucket[i]]) {
+                        drop(bucket[i]); // the first of equal triangles stays
+                        break;
+                    }
+            continue;
         }
+        // A hub: sort its bucket instead of comparing every pair.
+        std::sort(bucket.begin() + begin, bucket.begin() + end, [&](uint32_t a, uint32_t b) {
+            return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+        });
+        for (uint32_t i = begin + 1; i < end; ++i)
+            if (keys[bucket[i]] == keys[bucket[i - 1]]) drop(bucket[i]);
+    }
     if (report.degenerate_triangles_dropped + report.duplicate_triangles_dropped == 0) return;
     size_t out = 0;
     for (size_t t = 0; t < count; ++t)
