@@ -43,8 +43,11 @@ bool Simplifier::collapsible(uint32_t h) const {
 }
 
 HeapKey Simplifier::collapse_key(uint32_t h) const {
-    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
-    return {weight_[a] + weight_[b], float(norm(sub(mesh_.point(a), mesh_.point(b))))};
+    return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
+}
+
+void Simplifier::update_length(uint32_t h) {
+    length_[h] = float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
 }
 
 void Simplifier::refresh_edge(uint32_t h) {
@@ -245,7 +248,10 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
         dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
-    for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
+    for (size_t i = 0; i < count; ++i) {
+        m.update_angles(leaving[i] / 3);
+        update_length(leaving[i]), update_length(prev(leaving[i])); // every edge at n
+    }
     const Vec3 ref = add(m.reference_normal(a), m.reference_normal(b));
     const double lr = norm(ref);
     for (int c = 0; c < 3; ++c)

@@ -138,12 +138,14 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     for (uint32_t v = 0; v < n; ++v)
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
-    if (options.strategy == Strategy::EdgeCollapse)
+    if (options.strategy == Strategy::EdgeCollapse) {
+        length_.resize(surface.triangles.size());
+        for (uint32_t h = 0; h < surface.triangles.size(); ++h) update_length(h);
         for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
             const uint32_t t = mesh_.twin[h];
             if (t == kNone || h < t) refresh_edge(h);
         }
-    else
+    } else
         for (uint32_t v = 0; v < n; ++v) refresh_key(v);
 }
 

@@ -60,6 +60,7 @@ private:
     // has changed since.
     bool collapsible(uint32_t h) const;
     detail::HeapKey collapse_key(uint32_t h) const;
+    void update_length(uint32_t h); // after a corner of h's triangle moved
     void refresh_edge(uint32_t h);
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
@@ -95,6 +96,9 @@ private:
     // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
     // (kNone: another check refused it); plan_collapse tests it first.
     std::vector<uint32_t> fail_at_;
+    // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
+    // where a collapse moves a vertex rather than recomputed for every key.
+    std::vector<float> length_;
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;
     // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:
