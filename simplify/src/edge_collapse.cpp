@@ -91,13 +91,31 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     uint32_t ring_a[kMaxValence], ring_b[kMaxValence];
     const size_t na = mesh_.ring(a, ring_a, kMaxValence), nb = mesh_.ring(b, ring_b, kMaxValence);
     if (na == 0 || nb == 0) return false;
+    // a's neighbours marked (scratch stamps), then b's looked up: one pass each instead of
+    // comparing every pair. A ring that holds a vertex twice (counted twice by the pairs) is
+    // compared pairwise.
+    if (++seen_now_ == 0) std::fill(seen_.begin(), seen_.end(), 0), seen_now_ = 1;
+    bool repeated = false;
+    for (size_t i = 0; i < na; ++i) {
+        uint32_t& seen = seen_[ring_a[i]];
+        repeated |= seen == seen_now_;
+        seen = seen_now_;
+    }
     size_t common = 0;
-    for (size_t i = 0; i < na; ++i)
+    if (!repeated) {
         for (size_t j = 0; j < nb; ++j)
-            if (ring_a[i] == ring_b[j]) {
-                if (ring_a[i] != x && ring_a[i] != y) return false;
+            if (seen_[ring_b[j]] == seen_now_) {
+                if (ring_b[j] != x && ring_b[j] != y) return false;
                 ++common;
             }
+    } else {
+        for (size_t i = 0; i < na; ++i)
+            for (size_t j = 0; j < nb; ++j)
+                if (ring_a[i] == ring_b[j]) {
+                    if (ring_a[i] != x && ring_a[i] != y) return false;
+                    ++common;
+                }
+    }
     if (common != (y == kNone ? 1u : 2u)) return false;
     // An inner apex of valence 3 would be left with two triangles on the same three vertices.
     for (uint32_t apex : {x, y})

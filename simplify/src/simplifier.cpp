@@ -103,6 +103,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (options.strategy == Strategy::EdgeCollapse) {
         fail_.assign(surface.triangles.size(), 0);
         fail_at_.assign(surface.triangles.size(), kNone);
+        seen_.assign(capacity, 0);
         epoch_.assign(capacity, 0);
     }
 

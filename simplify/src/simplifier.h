@@ -99,6 +99,9 @@ private:
     // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
     // where a collapse moves a vertex rather than recomputed for every key.
     std::vector<float> length_;
+    // Edge collapse's scratch for the link condition: seen_[v] == seen_now_ marks a's ring.
+    mutable std::vector<uint32_t> seen_;
+    mutable uint32_t seen_now_ = 0;
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;
     // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:
