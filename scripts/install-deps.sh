@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
     build-essential cmake ninja-build pkg-config
     libopenmesh-dev libvtk9-dev libcli11-dev nlohmann-json3-dev
-    libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev
+    libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
 )
 
 missing=()
