@@ -17,8 +17,6 @@
 namespace ddsimp::detail {
 
 inline constexpr uint32_t kNone = 0xffffffffu;
-// How far (cosine) a triangle may face from the input surface's normal at any of its corners.
-inline constexpr double kFacingCos = 0.0;
 // Rounds of neighbour averaging that turn vertex normals into reference normals.
 inline constexpr int kReferenceSmoothing = 4;
 
@@ -92,12 +90,10 @@ struct WorkingMesh {
         const float* n = &reference[3 * size_t(v)];
         return {n[0], n[1], n[2]};
     }
-    // Does a triangle with (unnormalised) normal n face the way of the surface at its corners?
+    // Does a triangle with (unnormalised) normal n face the way of the surface at its corners
+    // (less than 90 degrees from each corner's reference normal)?
     template <class... V> bool faces_along(const Vec3& n, V... corners) const {
-        if constexpr (kFacingCos == 0) // the limit is 0 x |n| = 0: no square root needed
-            return ((dot(n, reference_normal(corners)) > 0) && ...);
-        const double limit = kFacingCos * norm(n);
-        return ((dot(n, reference_normal(corners)) > limit) && ...);
+        return ((dot(n, reference_normal(corners)) > 0) && ...);
     }
     Vec3 point(uint32_t v) const {
         const float* p = &position[3 * size_t(v)];
