@@ -122,6 +122,8 @@ enum class Strategy {
 enum class Placement {
     Midpoint,         // the middle of the edge
     VolumePreserving, // the point nearest the midpoint that keeps the enclosed volume (Gueziec)
+    // Either way, an end pinned by a boundary or feature line (see feature_angle) keeps its
+    // position: the new point goes there.
 };
 
 enum class StopReason {
@@ -140,13 +142,14 @@ struct Options {
 
     // Target: the first that is set wins: target_triangles, then keep_fraction.
     size_t target_triangles = 0; // stop at or below this many triangles (0: not set)
-    double keep_fraction = 0.1;  // stop at or below this fraction of the input's triangles
+    double keep_fraction = 0.1;  // or this fraction of the repaired input's triangles
     // Also stop when the lightest element's weight exceeds this (the "error bound" target).
     double max_weight = std::numeric_limits<double>::infinity();
 
     // Fields that drive the gradient term; empty means all fields.
     std::vector<std::string> gradient_fields;
-    // An edge whose dihedral angle exceeds this (degrees) is a feature edge; 180 disables features.
+    // An edge whose two triangles' normals differ by more than this (degrees) is a feature edge;
+    // 180 disables features.
     // Off by default: isosurfaces of sampled data are full of sharp-looking dihedrals between
     // slivers, which would pin most vertices. Turn it on for CAD-like parts (e.g. 45).
     double feature_angle = 180.0;
@@ -154,7 +157,8 @@ struct Options {
     // (degrees) of straight.
     double line_tolerance = 20.0;
     // Largest allowed turn (degrees) of any remaining triangle's normal in one operation; larger
-    // turns are refused as folds.
+    // turns are refused as folds. (Independently, no operation may leave a triangle facing away
+    // from the input surface's normal at its corners, so turns cannot add up to a flip.)
     double max_normal_turn = 60.0;
 
     // Threads for the per-vertex set-up stages; the output does not depend on it.
