@@ -200,13 +200,11 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         if (mesh_.kind[v] == VertexKind::Dead || mesh_.out[v] == kNone) continue;
-        uint32_t last = kNone;
-        mesh_.for_each_outgoing(v, [&](uint32_t h) {
+        mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool outgoing) {
             refresh(h);
-            if (fail_[detail::next(h)] != 0) refresh(detail::next(h)); // may be possible again
-            last = h;
+            // The far edge of this triangle, if refused, may be possible again.
+            if (outgoing && fail_[detail::next(h)] != 0) refresh(detail::next(h));
         });
-        if (mesh_.twin[detail::prev(last)] == kNone) refresh(detail::prev(last));
     }
 }
 

@@ -56,12 +56,7 @@ double GradientTerms::at(const WorkingMesh& mesh, uint32_t v) const {
     if (components.empty() || inv_diagonal == 0) return 0;
     if (mesh.kind[v] == VertexKind::Complex || mesh.kind[v] == VertexKind::Dead) return 0;
     Steepest steepest(*this, mesh, v);
-    uint32_t last = kNone;
-    mesh.for_each_outgoing(v, [&](uint32_t h) {
-        steepest.consider(mesh.dest(h));
-        last = h;
-    });
-    if (mesh.twin[prev(last)] == kNone) steepest.consider(mesh.origin[prev(last)]);
+    mesh.for_each_edge(v, [&](uint32_t, uint32_t other, bool) { steepest.consider(other); });
     return steepest.value();
 }
 

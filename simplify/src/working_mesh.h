@@ -110,6 +110,18 @@ struct WorkingMesh {
             h = twin[prev(h)];
         } while (h != kNone && h != start);
     }
+    // Every edge at v once: f(h, other, true) for each outgoing half-edge h (other = dest(h)),
+    // then on a boundary f(p, other, false) for the incoming half-edge p that closes the fan
+    // (other = its origin).
+    template <class F> void for_each_edge(uint32_t v, F&& f) const {
+        uint32_t last = kNone;
+        for_each_outgoing(v, [&](uint32_t h) {
+            f(h, dest(h), true);
+            last = h;
+        });
+        const uint32_t closing = prev(last);
+        if (twin[closing] == kNone) f(closing, origin[closing], false);
+    }
     // Neighbours of v in counter-clockwise order (on a boundary from the fan's first to its last
     // neighbour) into ids[0..max); returns their number, or 0 if there are more than `max`.
     size_t ring(uint32_t v, uint32_t* ids, size_t max) const;
@@ -146,27 +158,17 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     }
     uint32_t ends[2];
     int lines = 0;
-    uint32_t last = kNone, neighbours = 0;
+    uint32_t neighbours = 0;
     double angles = 0;
-    for_each_outgoing(v, [&](uint32_t h) {
-        const uint32_t d = dest(h);
-        visit(d, false);
-        angles += angle[h];
-        if (line[h]) {
-            if (lines < 2) ends[lines] = d;
+    for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
+        visit(other, !outgoing);
+        if (outgoing) angles += angle[h];
+        if (!outgoing || line[h]) { // the edge closing a boundary fan is a boundary edge
+            if (lines < 2) ends[lines] = other;
             ++lines;
         }
-        last = h;
         ++neighbours;
     });
-    const uint32_t incoming = prev(last);
-    if (twin[incoming] == kNone) { // the boundary edge that closes the fan
-        const uint32_t o = origin[incoming];
-        visit(o, true);
-        if (lines < 2) ends[lines] = o;
-        ++lines;
-        ++neighbours;
-    }
     valence[v] = uint16_t(std::min(neighbours, 0xffffu));
     kind[v] = VertexKind::Corner;
     if (lines == 0) {
