@@ -6,6 +6,8 @@ packages=(
     build-essential cmake ninja-build pkg-config
     libopenmesh-dev libvtk9-dev libcli11-dev nlohmann-json3-dev
     libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
+    libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
+    openmpi-bin libopenmpi-dev
 )
 
 missing=()
