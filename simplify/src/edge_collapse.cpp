@@ -276,6 +276,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
         m.reference[3 * size_t(n) + c] =
             lr > 0 ? float(ref[c] / lr) : m.reference[3 * size_t(a) + c];
     m.kind[n] = VertexKind::Free;
+    if (!m.locked.empty()) m.locked[n] = m.locked[a] | m.locked[b]; // placed on the locked end
     m.reset_out(n, leaving[0]);
     m.reset_out(x, entry_x);
     if (y != kNone) m.reset_out(y, entry_y);

@@ -24,7 +24,7 @@ Surface ProgressiveRecord::level(size_t triangles) const {
     return after(operations_for(triangles));
 }
 
-Surface ProgressiveRecord::after(size_t operations) const {
+std::vector<uint32_t> ProgressiveRecord::indexed_triangles(size_t operations) const {
     operations = std::min(operations, this->operations());
     std::vector<uint32_t> triangles = base_triangles_;
     if (strategy_ == Strategy::EdgeCollapse) {
@@ -50,6 +50,11 @@ Surface ProgressiveRecord::after(size_t operations) const {
         triangles.erase(std::remove(triangles.begin(), triangles.end(), 0xffffffffu),
                         triangles.end());
     }
+    return triangles;
+}
+
+Surface ProgressiveRecord::after(size_t operations) const {
+    std::vector<uint32_t> triangles = indexed_triangles(operations);
 
     // Keep the referenced vertices, in the order of their ids.
     const size_t nv = vertices_.vertex_count();

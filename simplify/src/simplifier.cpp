@@ -90,6 +90,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
                                                        : surface.vertex_count()),
       input_(surface) {
     check_options(options);
+    if (!options.locked.empty() && options.locked.size() != surface.vertex_count())
+        throw InputError("invalid option: locked has " + std::to_string(options.locked.size()) +
+                         " entries, but the surface has " +
+                         std::to_string(surface.vertex_count()) + " vertices");
     gradient_.setup(surface, options.gradient_fields);
     // A collapse puts its new vertex in the slot of one of its ends, so the live vertices stay
     // where the locality order put them and the capacity is the input's.
@@ -97,6 +101,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     id_ = locality_order(surface);
     rank_.assign(capacity, kNone);
     for (uint32_t v = 0; v < capacity; ++v) rank_[id_[v]] = v;
+    if (!options.locked.empty()) { // before build: its classification reads the locks
+        mesh_.locked.assign(capacity, 0);
+        for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
+    }
     mesh_.build(reordered(surface, id_, rank_), capacity, limits_from(options));
     stamp_.assign(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size() : capacity,
                   0);

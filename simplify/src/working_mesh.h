@@ -67,6 +67,9 @@ struct WorkingMesh {
     std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
     std::vector<VertexKind> kind;
     std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
+    // Options::locked by vertex slot (empty: none); classify makes a locked vertex a Corner, and
+    // a collapse into a locked vertex passes the lock on to the slot of the new vertex.
+    std::vector<uint8_t> locked;
     // Unit normal of the input surface around each vertex (a new vertex averages its edge's
     // two): no operation may leave a triangle facing away from its corners' normals, so turns
     // cannot add up to a flip over many operations.
@@ -178,6 +181,7 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
         const double l = norm(in) * norm(on);
         if (l > 0 && dot(in, on) >= limits.straight_cos * l) kind[v] = VertexKind::Line;
     }
+    if (!locked.empty() && locked[v]) kind[v] = VertexKind::Corner;
     return angles;
 }
 

@@ -114,6 +114,33 @@ TEST_P(Progressive, EveryPrefixIsASoundSurface) {
     }
 }
 
+// indexed_triangles(k) names, through the stable ids of vertices(), the same corners as after(k):
+// triangle by triangle, the same positions and the same data. At k = 0 the ids are the input's.
+TEST_P(Progressive, IndexedTrianglesUseStableVertexIds) {
+    Surface in = grid_input();
+    ProgressiveRecord rec = ProgressiveRecord::build(in, record_options());
+    const Surface& all = rec.vertices();
+    EXPECT_EQ(rec.indexed_triangles(0), in.triangles);
+    const size_t ops = rec.operations();
+    for (size_t k : {size_t(0), size_t(1), ops / 2, ops}) {
+        const std::vector<uint32_t> ids = rec.indexed_triangles(k);
+        const Surface level = rec.after(k);
+        ASSERT_EQ(ids.size(), level.triangles.size()) << k;
+        for (size_t c = 0; c < ids.size(); ++c) {
+            ASSERT_LT(ids[c], all.vertex_count());
+            for (int d = 0; d < 3; ++d)
+                EXPECT_EQ(all.positions[3 * ids[c] + d],
+                          level.positions[3 * level.triangles[c] + d]);
+            for (size_t f = 0; f < all.fields.size(); ++f) {
+                const size_t nc = size_t(all.fields[f].components);
+                for (size_t j = 0; j < nc; ++j)
+                    EXPECT_EQ(all.fields[f].values[nc * ids[c] + j],
+                              level.fields[f].values[nc * level.triangles[c] + j]);
+            }
+        }
+    }
+}
+
 // operations_for(n) is the first k with triangles_after(k - 1) <= n; level(n) is after(k); below
 // the coarsest recorded level, level() gives the coarsest.
 TEST_P(Progressive, OperationsForAndLevel) {

@@ -161,6 +161,12 @@ struct Options {
     // from the input surface's normal at its corners, so turns cannot add up to a flip.)
     double max_normal_turn = 60.0;
 
+    // Locked vertices: empty means none, else one entry per input vertex; a non-zero entry
+    // keeps that vertex in the output with its position and data unchanged (like a corner of a
+    // line, it is never removed or moved; a free neighbour may still collapse into it). For
+    // pieces of a larger surface whose shared borders must stay as they are (ddsimp-mpi).
+    std::vector<std::uint8_t> locked;
+
     // Threads for the per-vertex set-up stages; the output does not depend on it.
     int threads = 1;
     // Called now and then with the fraction of the work done; return false to cancel.
@@ -204,6 +210,13 @@ public:
     Surface level(size_t triangles) const;
     // Operations needed to get to at most `triangles` triangles (or all of them).
     size_t operations_for(size_t triangles) const;
+
+    // Every vertex the record knows: the input's, then one per collapse (edge collapse only),
+    // with every field. Vertex ids are stable across levels, so a renderer can refine a level
+    // into a finer one by sending only what changed (see indexed_triangles).
+    const Surface& vertices() const { return vertices_; }
+    // The triangles after `operations` operations, in the ids of vertices(), in slot order.
+    std::vector<uint32_t> indexed_triangles(size_t operations) const;
 
     size_t operations() const { return triangles_after_.size(); }
     size_t triangles_in() const { return triangles_in_; }
