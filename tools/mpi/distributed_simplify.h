@@ -1,0 +1,24 @@
+// `ddsimp-mpi simplify`: the surface is read on rank 0, validated, cut into one spatially coherent
+// piece per rank (pieces.h) and sent out; every rank simplifies its piece with the piece borders
+// locked; rank 0 gathers the pieces, welds them back into one surface, and a final pass over the
+// whole surface (nothing locked) reaches the target. Each piece is taken further than the target
+// fraction only by kPieceSlack, so that the final pass chooses the last operations globally.
+#pragma once
+
+#include "simplify_args.h"
+
+namespace CLI {
+class App;
+}
+
+namespace ddsimp::mpi {
+
+// Pieces stop at kPieceSlack x their share of the target; the final pass does the rest.
+inline constexpr double kPieceSlack = 1.5;
+
+// Collective: every rank calls it with the same parsed command line. Returns the exit status;
+// throws on rank 0 for an error (io::IoError, InputError), after every rank has agreed to stop,
+// while the other ranks return 1.
+int distributed_simplify(const cli::SimplifyArgs& args, const CLI::App& command);
+
+} // namespace ddsimp::mpi

@@ -1,0 +1,78 @@
+// ddsimp-mpi: `ddsimp simplify` across Open MPI ranks, for surfaces beyond one node.
+//
+//     mpirun -np N ddsimp-mpi simplify IN -o OUT [the options of ddsimp simplify] [--json]
+//
+// Rank 0 reads IN and writes OUT; see distributed_simplify.h for what the ranks do. Exit status
+// as for ddsimp: 0 success, 1 input or I/O error, 2 usage error; every error is one line on
+// stderr from rank 0 starting with "ddsimp-mpi: ", and every rank stops (no rank is left waiting).
+#include "cli_support.h"
+#include "distributed_simplify.h"
+#include "simplify_args.h"
+#include "surface_io.h"
+
+#include <CLI/CLI.hpp>
+#include <mpi.h>
+
+#include <cstdio>
+#include <string>
+
+namespace {
+
+int rank_ = 0;
+
+int fail(int status, const std::string& message) {
+    if (rank_ != 0) return status;
+    std::string line = message;
+    for (char& c : line)
+        if (c == '\n' || c == '\r') c = ' ';
+    std::fprintf(stderr, "ddsimp-mpi: %s\n", line.c_str());
+    return status;
+}
+
+int run(int argc, char** argv) {
+    using namespace ddsimp::cli;
+    CLI::App app{"ddsimp-mpi: data-dependent surface simplification across MPI ranks\n"
+                 "Exit status: 0 success, 1 input or I/O error, 2 usage error."};
+    app.require_subcommand(1);
+    SimplifyArgs args;
+    CLI::App* simplify = app.add_subcommand(
+        "simplify",
+        "Reduce a surface, keeping its topology: one piece per rank, then a final pass");
+    add_simplify_options(*simplify, args);
+
+    // The command line is the same on every rank, so every rank reaches the same verdict.
+    if (argc > 1 && argv[1][0] != '-' && !simplify->check_name(argv[1]))
+        return fail(kExitUsageError,
+                    std::string("unknown command '") + argv[1] + "' (commands: simplify)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) { // --help
+        return rank_ == 0 ? app.exit(e) : 0;
+    } catch (const CLI::ParseError& e) {
+        return fail(kExitUsageError, e.what() + std::string(" (see ddsimp-mpi simplify --help)"));
+    }
+
+    try {
+        return ddsimp::mpi::distributed_simplify(args, *simplify);
+    } catch (const UsageError& e) {
+        return fail(kExitUsageError, e.what());
+    } catch (const ddsimp::io::IoError& e) {
+        return fail(kExitInputError, e.what());
+    } catch (const ddsimp::InputError& e) {
+        return fail(kExitInputError, e.what());
+    } catch (const std::bad_alloc&) {
+        return fail(kExitInputError, "out of memory");
+    } catch (const std::exception& e) {
+        return fail(kExitInputError, std::string("internal error: ") + e.what());
+    }
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    const int status = run(argc, argv);
+    MPI_Finalize();
+    return status;
+}

@@ -1,0 +1,190 @@
+#include "pieces.h"
+
+#include <algorithm>
+#include <array>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+
+namespace ddsimp::mpi {
+
+namespace {
+
+using Centroid = std::array<double, 3>;
+
+// Cuts `ids` (triangles) into `parts` pieces, numbered from `first`.
+void bisect(std::vector<uint32_t>::iterator begin, std::vector<uint32_t>::iterator end,
+            uint32_t first, uint32_t parts, const std::vector<Centroid>& centroid,
+            std::vector<uint32_t>& piece_of) {
+    if (parts == 1 || end - begin <= 1) {
+        for (auto it = begin; it != end; ++it) piece_of[*it] = first;
+        return;
+    }
+    Centroid lo = centroid[*begin], hi = lo;
+    for (auto it = begin; it != end; ++it)
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], centroid[*it][k]);
+            hi[k] = std::max(hi[k], centroid[*it][k]);
+        }
+    int axis = 0;
+    for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+    const uint32_t left = parts / 2;
+    const auto count = size_t(end - begin);
+    const auto middle = begin + std::ptrdiff_t(count * left / parts);
+    std::nth_element(begin, middle, end, [&](uint32_t a, uint32_t b) {
+        const double ca = centroid[a][size_t(axis)], cb = centroid[b][size_t(axis)];
+        return ca < cb || (ca == cb && a < b);
+    });
+    bisect(begin, middle, first, left, centroid, piece_of);
+    bisect(middle, end, first + left, parts - left, centroid, piece_of);
+}
+
+// A vertex's position and data as raw bytes: what a locked vertex keeps exactly.
+std::string vertex_bytes(const Surface& s, size_t v) {
+    std::string key(reinterpret_cast<const char*>(&s.positions[3 * v]), 3 * sizeof(float));
+    for (const Field& f : s.fields)
+        key.append(reinterpret_cast<const char*>(&f.values[v * size_t(f.components)]),
+                   size_t(f.components) * sizeof(float));
+    return key;
+}
+
+} // namespace
+
+std::vector<uint32_t> bisect_triangles(const Surface& s, uint32_t parts) {
+    const size_t n = s.triangle_count();
+    std::vector<Centroid> centroid(n);
+    for (size_t t = 0; t < n; ++t) {
+        Centroid c{0, 0, 0};
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) c[size_t(k)] += s.positions[3 * s.triangles[3 * t + i] + k];
+        centroid[t] = c;
+    }
+    std::vector<uint32_t> ids(n), piece_of(n, 0);
+    for (uint32_t t = 0; t < n; ++t) ids[t] = t;
+    if (parts > 0) bisect(ids.begin(), ids.end(), 0, parts, centroid, piece_of);
+    return piece_of;
+}
+
+std::vector<Piece> split_surface(const Surface& s, const std::vector<uint32_t>& piece_of,
+                                 uint32_t parts) {
+    const size_t nv = s.vertex_count(), nt = s.triangle_count();
+    // The first piece that uses each vertex, and whether a second one does.
+    std::vector<uint32_t> owner(nv, kNoId);
+    std::vector<uint8_t> shared(nv, 0);
+    for (size_t t = 0; t < nt; ++t)
+        for (int i = 0; i < 3; ++i) {
+            const uint32_t v = s.triangles[3 * t + i];
+            if (owner[v] == kNoId)
+                owner[v] = piece_of[t];
+            else if (owner[v] != piece_of[t])
+                shared[v] = 1;
+        }
+
+    std::vector<Piece> pieces(parts);
+    std::vector<uint32_t> local(nv);
+    std::vector<uint8_t> used(nv), near(nv);
+    for (uint32_t p = 0; p < parts; ++p) {
+        Piece& piece = pieces[p];
+        std::fill(used.begin(), used.end(), 0);
+        std::fill(near.begin(), near.end(), 0);
+        for (size_t t = 0; t < nt; ++t) {
+            if (piece_of[t] != p) continue;
+            const uint32_t* c = &s.triangles[3 * t];
+            const bool at_border = shared[c[0]] || shared[c[1]] || shared[c[2]];
+            for (int i = 0; i < 3; ++i) used[c[i]] = 1, near[c[i]] |= uint8_t(at_border);
+        }
+        uint32_t count = 0;
+        for (size_t v = 0; v < nv; ++v) {
+            if (!used[v]) continue;
+            local[v] = count++;
+            piece.surface.positions.insert(piece.surface.positions.end(), &s.positions[3 * v],
+                                           &s.positions[3 * v] + 3);
+            piece.locked.push_back(near[v]);
+            piece.border.push_back(shared[v] ? uint32_t(v) : kNoId);
+        }
+        for (size_t t = 0; t < nt; ++t)
+            if (piece_of[t] == p)
+                for (int i = 0; i < 3; ++i)
+                    piece.surface.triangles.push_back(local[s.triangles[3 * t + i]]);
+        for (const Field& f : s.fields) {
+            Field g{f.name, f.components, {}};
+            const size_t nc = size_t(f.components);
+            g.values.reserve(count * nc);
+            for (size_t v = 0; v < nv; ++v)
+                if (used[v])
+                    g.values.insert(g.values.end(), &f.values[v * nc], &f.values[v * nc] + nc);
+            piece.surface.fields.push_back(std::move(g));
+        }
+        // No other vertex of the piece may look exactly like a border vertex.
+        std::unordered_map<std::string, uint32_t> border;
+        for (uint32_t v = 0; v < count; ++v)
+            if (piece.border[v] != kNoId &&
+                !border.emplace(vertex_bytes(piece.surface, v), v).second)
+                piece.borders_distinct = false;
+        for (uint32_t v = 0; v < count && piece.borders_distinct; ++v)
+            if (piece.border[v] == kNoId && border.count(vertex_bytes(piece.surface, v)))
+                piece.borders_distinct = false;
+    }
+    return pieces;
+}
+
+std::vector<uint32_t> find_border_vertices(const Piece& piece, const Surface& reduced) {
+    std::unordered_map<std::string, uint32_t> border;
+    for (size_t v = 0; v < piece.border.size(); ++v)
+        if (piece.border[v] != kNoId)
+            border.emplace(vertex_bytes(piece.surface, v), piece.border[v]);
+    std::vector<uint32_t> ids(reduced.vertex_count(), kNoId);
+    size_t found = 0;
+    for (size_t v = 0; v < reduced.vertex_count(); ++v) {
+        const auto it = border.find(vertex_bytes(reduced, v));
+        if (it == border.end()) continue;
+        if (it->second == kNoId)
+            throw std::runtime_error("a border vertex appears twice in its simplified piece");
+        ids[v] = it->second;
+        it->second = kNoId;
+        ++found;
+    }
+    if (found != border.size())
+        throw std::runtime_error(std::to_string(border.size() - found) +
+                                 " border vertices are missing from a simplified piece");
+    return ids;
+}
+
+Surface stitch(const std::vector<ReducedPiece>& pieces) {
+    Surface out;
+    if (pieces.empty()) return out;
+    for (const Field& f : pieces.front().surface.fields)
+        out.fields.push_back({f.name, f.components, {}});
+    std::unordered_map<uint32_t, uint32_t> welded; // global id -> vertex of `out`
+    for (const ReducedPiece& piece : pieces) {
+        const Surface& s = piece.surface;
+        if (s.fields.size() != out.fields.size())
+            throw std::runtime_error("pieces with different fields cannot be stitched");
+        std::vector<uint32_t> index(s.vertex_count());
+        for (size_t v = 0; v < s.vertex_count(); ++v) {
+            if (piece.border[v] != kNoId) {
+                const auto [it, fresh] =
+                    welded.emplace(piece.border[v], uint32_t(out.vertex_count()));
+                index[v] = it->second;
+                if (!fresh) continue;
+            } else {
+                index[v] = uint32_t(out.vertex_count());
+            }
+            out.positions.insert(out.positions.end(), &s.positions[3 * v], &s.positions[3 * v] + 3);
+            for (size_t i = 0; i < s.fields.size(); ++i) {
+                const Field& f = s.fields[i];
+                const size_t nc = size_t(f.components);
+                if (f.name != out.fields[i].name || f.components != out.fields[i].components)
+                    throw std::runtime_error("pieces with different fields cannot be stitched");
+                out.fields[i].values.insert(out.fields[i].values.end(), &f.values[v * nc],
+                                            &f.values[v * nc] + nc);
+            }
+        }
+        for (uint32_t c : s.triangles) out.triangles.push_back(index[c]);
+    }
+    return out;
+}
+
+} // namespace ddsimp::mpi

@@ -1,0 +1,57 @@
+// Splitting a surface into spatially coherent pieces for ddsimp-mpi, and stitching the simplified
+// pieces back into one surface. No MPI here: the pipeline (distributed_simplify.cpp) moves the
+// pieces between ranks.
+//
+// A piece locks its border vertices (those shared with another piece) and every vertex of its
+// triangles at such a border vertex. With that one-ring locked too, no operation in the piece can
+// touch a border vertex's star: the border stays exactly as in the input, so welding the pieces
+// back gives a surface with the input's topology (no edge can appear in two pieces, no edge can
+// gain a third triangle across a border).
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::mpi {
+
+inline constexpr uint32_t kNoId = 0xffffffffu;
+
+// The piece (0 .. parts-1) of each triangle, by recursive coordinate bisection of the triangle
+// centroids: the longest side of the centroids' bounding box is cut where the triangle counts
+// are in proportion to the piece counts on each side (any number of parts, not only powers of
+// two). Ties are broken by triangle index, so the split is deterministic.
+std::vector<uint32_t> bisect_triangles(const Surface& surface, uint32_t parts);
+
+struct Piece {
+    Surface surface;              // its triangles over its own vertices, in global id order
+    std::vector<uint8_t> locked;  // per vertex: a border vertex or a neighbour of one
+    std::vector<uint32_t> border; // per vertex: its global id if shared with another piece,
+                                  // else kNoId
+    // Are the border vertices told apart by their position and data alone? (See
+    // find_border_vertices; false only if two of them coincide exactly.)
+    bool borders_distinct = true;
+};
+
+// The pieces of `surface` (validated: indices in range) for the given triangle assignment.
+std::vector<Piece> split_surface(const Surface& surface, const std::vector<uint32_t>& piece_of,
+                                 uint32_t parts);
+
+// The global id of each vertex of `reduced` (a simplification of `piece` with its locks) that is
+// one of the piece's border vertices, else kNoId. Locked vertices keep their position and data
+// bit for bit, so they are found by those. Throws std::runtime_error if a border vertex is
+// missing or found twice.
+std::vector<uint32_t> find_border_vertices(const Piece& piece, const Surface& reduced);
+
+// A simplified piece and the global ids of its border vertices (kNoId for the others).
+struct ReducedPiece {
+    Surface surface;
+    std::vector<uint32_t> border;
+};
+
+// One surface from the pieces, in piece order: every vertex once, a border vertex shared by
+// several pieces welded into one (the first piece's copy). Every piece must have the same fields.
+Surface stitch(const std::vector<ReducedPiece>& pieces);
+
+} // namespace ddsimp::mpi
