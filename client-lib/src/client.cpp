@@ -202,6 +202,12 @@ struct Client::Impl {
 
     // Ends the connection: every pending operation fails with `error`.
     void shut(const ClientError& error) {
+        bool had_sessions = false;
+        {
+            std::lock_guard lock(info_mutex);
+            is_connected = false; // before any waiter wakes up
+            had_sessions = !joined.empty();
+        }
         if (handshake) {
             handshake->set_exception(as_exception(error));
             handshake.reset();
@@ -226,12 +232,6 @@ struct Client::Impl {
         plain.reset();
         tls.reset();
         ++generation;
-        bool had_sessions = false;
-        {
-            std::lock_guard lock(info_mutex);
-            is_connected = false;
-            had_sessions = !joined.empty();
-        }
         if (was_open && had_sessions)
             deliver({SessionEvent::Kind::Error, {}, {}, error.what(), error.code()});
     }
