@@ -1,0 +1,58 @@
+#include "config.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdlib>
+#include <iostream>
+
+#ifndef DDSIMP_DEFAULT_SAMPLE
+#define DDSIMP_DEFAULT_SAMPLE ""
+#endif
+
+namespace ddsimp::server {
+
+Config parse_config(int argc, char** argv) {
+    Config c;
+    c.sample = DDSIMP_DEFAULT_SAMPLE;
+    CLI::App app{"ddsimp-server: data-dependent surface simplification as a service"};
+    app.set_version_flag("--version", "ddsimp-server 0.1.0");
+    app.set_config("--config", "", "read options from an INI file (key = value)");
+    app.option_defaults()->always_capture_default();
+    const auto opt = [&](const std::string& name, auto& value, const std::string& help) {
+        std::string env = "DDSIMP_" + name.substr(2);
+        for (char& ch : env) ch = ch == '-' ? '_' : char(std::toupper(ch));
+        return app.add_option(name, value, help)->envname(env);
+    };
+    opt("--bind", c.bind, "address to listen on (0.0.0.0 for every interface)");
+    opt("--port", c.port, "native protocol port");
+    opt("--http-port", c.http_port, "HTTP port: /healthz, /metrics, WebSocket /ws, web renderer");
+    opt("--data-dir", c.data_dir, "where uploaded surfaces are stored");
+    opt("--token", c.token, "require this token from every client");
+    opt("--tls-cert", c.tls_cert, "TLS certificate (PEM); with --tls-key, TLS on both ports");
+    opt("--tls-key", c.tls_key, "TLS private key (PEM)");
+    opt("--threads", c.threads, "simplification threads")->check(CLI::Range(1, 256));
+    opt("--cache-mb", c.cache_mb, "memory for cached results (MiB)");
+    opt("--web-dir", c.web_dir, "the browser renderer's files, served at /");
+    opt("--sample", c.sample, "a surface file loaded at start (\"\" for none)");
+    opt("--max-frame-bytes", c.max_frame_bytes, "largest accepted frame");
+    opt("--max-surface-triangles", c.max_surface_triangles, "largest accepted upload");
+    opt("--max-clients", c.max_clients, "connections at once");
+    opt("--max-sessions", c.max_sessions, "sessions at once");
+    opt("--max-queue-mb", c.max_queue_mb,
+        "per client: bytes waiting to be sent before it is dropped");
+    opt("--send-timeout", c.send_timeout_s,
+        "seconds a stalled write is allowed before the client is dropped");
+    opt("--idle-timeout", c.idle_timeout_s, "seconds of silence before a connection is closed");
+    opt("--log-level", c.log_level, "trace, debug, info, warn, error")
+        ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+    try {
+        app.parse(argc, argv);
+        if (c.tls_cert.empty() != c.tls_key.empty())
+            throw CLI::ValidationError("--tls-cert and --tls-key", "give both or neither");
+    } catch (const CLI::ParseError& e) {
+        std::exit(app.exit(e));
+    }
+    return c;
+}
+
+} // namespace ddsimp::server

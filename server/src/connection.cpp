@@ -1,0 +1,337 @@
+#include "connection.h"
+
+#include "service.h"
+
+#include "ddsimp/protocol/mesh_codec.h"
+
+#include <spdlog/spdlog.h>
+
+namespace ddsimp::server {
+namespace {
+
+// What this server can do; Welcome answers with the intersection.
+const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessions"};
+constexpr size_t kMaxUploadsPerConnection = 4;
+
+} // namespace
+
+Connection::Connection(Service& service, std::shared_ptr<Transport> transport, uint64_t id)
+    : service_(service), transport_(std::move(transport)), id_(id), peer_(transport_->peer()),
+      queue_(protocol::kDefaultChunkBytes), idle_timer_(service.io()) {
+    member_.set_client_id(id);
+}
+
+void Connection::start() {
+    spdlog::debug("client {} connected from {}", id_, peer_);
+    transport_->start(shared_from_this());
+    // Until the handshake is done, the handshake timeout applies.
+    idle_timer_.expires_after(
+        std::chrono::milliseconds(int64_t(1000 * service_.config().handshake_timeout_s)));
+    idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
+        auto self = weak.lock();
+        if (!ec && self && !self->authenticated_) self->drop("no handshake within the timeout");
+    });
+}
+
+void Connection::arm_idle_timer() {
+    idle_timer_.expires_after(
+        std::chrono::milliseconds(int64_t(1000 * service_.config().idle_timeout_s)));
+    idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
+        if (auto self = weak.lock(); !ec && self) self->drop("idle for the idle timeout");
+    });
+}
+
+void Connection::on_frame(protocol::Frame frame) {
+    if (closing_) return;
+    service_.metrics().bytes_received += protocol::kHeaderBytes + frame.payload.size();
+    if (authenticated_) arm_idle_timer();
+    try {
+        handle(frame);
+    } catch (const protocol::FrameError& e) {
+        on_bad_frame(e.what());
+    }
+}
+
+void Connection::on_bad_frame(const std::string& why) {
+    ++service_.metrics().bad_frames;
+    spdlog::warn("client {} ({}): bad frame: {}", id_, peer_, why);
+    send_error(v1::Error::BAD_FRAME, why, 0, true);
+}
+
+void Connection::handle(const protocol::Frame& frame) {
+    using protocol::parse_payload;
+    if (!hello_) {
+        if (frame.type != v1::HELLO)
+            return send_error(v1::Error::UNAUTHENTICATED, "the first message must be Hello", 0,
+                              true);
+        return on_hello(parse_payload<v1::Hello>(frame));
+    }
+    if (!authenticated_) {
+        if (frame.type != v1::AUTH)
+            return send_error(v1::Error::UNAUTHENTICATED, "authenticate first", 0, true);
+        return on_auth(parse_payload<v1::Auth>(frame));
+    }
+    switch (frame.type) {
+    case v1::PING: {
+        v1::Pong pong;
+        pong.set_nonce(parse_payload<v1::Ping>(frame).nonce());
+        return send(pong);
+    }
+    case v1::PONG:
+        return;
+    case v1::UPLOAD_BEGIN:
+        return on_upload_begin(parse_payload<v1::UploadBegin>(frame));
+    case v1::UPLOAD_CHUNK: {
+        v1::UploadChunk chunk = parse_payload<v1::UploadChunk>(frame);
+        return on_upload_chunk(chunk);
+    }
+    case v1::UPLOAD_END:
+        return on_upload_end(parse_payload<v1::UploadEnd>(frame));
+    case v1::LIST_SURFACES:
+        parse_payload<v1::ListSurfaces>(frame);
+        return service_.list_surfaces(*this);
+    case v1::REQUEST:
+        return on_request(parse_payload<v1::Request>(frame));
+    case v1::CANCEL:
+        return on_cancel(parse_payload<v1::Cancel>(frame));
+    case v1::JOIN_SESSION:
+        return service_.join(shared_from_this(), parse_payload<v1::JoinSession>(frame).name());
+    case v1::LEAVE_SESSION:
+        return service_.leave(*this, parse_payload<v1::LeaveSession>(frame).name());
+    case v1::SET_SESSION_STATE:
+        return service_.set_state(shared_from_this(), parse_payload<v1::SetSessionState>(frame));
+    default:
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "a client does not send " + protocol::message_type_name(frame.type));
+    }
+}
+
+void Connection::on_hello(const v1::Hello& hello) {
+    if (hello.protocol_version() != protocol::kProtocolVersion)
+        return send_error(v1::Error::UNSUPPORTED_VERSION,
+                          "protocol version " + std::to_string(hello.protocol_version()) +
+                              " is not supported (this server speaks version 1)",
+                          0, true);
+    hello_ = true;
+    member_.set_name(hello.client_name().substr(0, 200));
+    member_.set_kind(hello.kind());
+    for (const std::string& c : hello.capabilities())
+        if (kCapabilities.count(c)) capabilities_.insert(c);
+    const Config& config = service_.config();
+    v1::Welcome welcome;
+    welcome.set_protocol_version(protocol::kProtocolVersion);
+    welcome.set_server_name(service_.server_name());
+    for (const std::string& c : capabilities_) welcome.add_capabilities(c);
+    welcome.set_auth_required(!config.token.empty());
+    welcome.set_client_id(id_);
+    welcome.set_max_frame_bytes(config.max_frame_bytes);
+    welcome.set_max_surface_triangles(config.max_surface_triangles);
+    welcome.set_chunk_bytes(uint32_t(protocol::kDefaultChunkBytes));
+    send(welcome);
+    if (config.token.empty()) {
+        authenticated_ = true;
+        arm_idle_timer();
+    }
+    spdlog::info("client {} ({}) is \"{}\" ({})", id_, peer_, member_.name(),
+                 v1::ClientKind_Name(member_.kind()));
+}
+
+void Connection::on_auth(const v1::Auth& auth) {
+    const std::string& token = service_.config().token;
+    // Compare without an early exit so the time does not tell how much matched.
+    unsigned char diff = token.size() != auth.token().size();
+    for (size_t i = 0; i < token.size(); ++i)
+        diff |=
+            static_cast<unsigned char>(token[i] ^ (i < auth.token().size() ? auth.token()[i] : 0));
+    if (diff != 0) {
+        spdlog::warn("client {} ({}): wrong token", id_, peer_);
+        return send_error(v1::Error::UNAUTHENTICATED, "wrong token", 0, true);
+    }
+    authenticated_ = true;
+    arm_idle_timer();
+    send(v1::AuthOk{});
+}
+
+void Connection::on_upload_begin(const v1::UploadBegin& begin) {
+    const Config& config = service_.config();
+    const uint64_t id = begin.upload_id();
+    const auto refuse = [&](v1::Error::Code code, const std::string& why) {
+        send_error(code, "upload " + std::to_string(id) + ": " + why, id);
+    };
+    if (uploads_.count(id)) return refuse(v1::Error::INVALID_ARGUMENT, "already in progress");
+    if (uploads_.size() >= kMaxUploadsPerConnection)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED, "at most " +
+                                                         std::to_string(kMaxUploadsPerConnection) +
+                                                         " uploads at once per connection");
+    if (begin.triangle_count() > config.max_surface_triangles)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED,
+                      std::to_string(begin.triangle_count()) +
+                          " triangles, over the server's limit of " +
+                          std::to_string(config.max_surface_triangles));
+    if (begin.vertex_count() > 3 * config.max_surface_triangles)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED,
+                      std::to_string(begin.vertex_count()) + " vertices, over the server's limit");
+    std::vector<protocol::FieldSpec> fields;
+    for (const v1::FieldInfo& f : begin.fields()) {
+        if (f.components() < 1 || f.components() > 256)
+            return refuse(v1::Error::INVALID_ARGUMENT, "field \"" + f.name() + "\" has " +
+                                                           std::to_string(f.components()) +
+                                                           " components (1 to 256 allowed)");
+        fields.push_back({f.name(), f.components()});
+    }
+    uint64_t expected = 0;
+    try {
+        expected = protocol::raw_mesh_bytes(begin.vertex_count(), begin.triangle_count(), fields);
+    } catch (const protocol::BlobError& e) {
+        return refuse(v1::Error::INVALID_ARGUMENT, e.what());
+    }
+    if (begin.total_bytes() != expected)
+        return refuse(v1::Error::INVALID_ARGUMENT,
+                      "total_bytes is " + std::to_string(begin.total_bytes()) + " but " +
+                          std::to_string(begin.vertex_count()) + " vertices, " +
+                          std::to_string(begin.triangle_count()) +
+                          " triangles and these fields take " + std::to_string(expected));
+    Upload& u = uploads_[id];
+    u.begin = begin;
+    u.bytes.reserve(expected);
+}
+
+void Connection::on_upload_chunk(v1::UploadChunk& chunk) {
+    auto it = uploads_.find(chunk.upload_id());
+    if (it == uploads_.end())
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "upload " + std::to_string(chunk.upload_id()) + " was not begun",
+                          chunk.upload_id());
+    Upload& u = it->second;
+    std::string why;
+    if (chunk.offset() != u.bytes.size())
+        why = "a chunk at offset " + std::to_string(chunk.offset()) + " after " +
+              std::to_string(u.bytes.size()) + " bytes";
+    else if (u.bytes.size() + chunk.data().size() > u.begin.total_bytes())
+        why = "more bytes than the announced " + std::to_string(u.begin.total_bytes());
+    if (!why.empty()) {
+        uploads_.erase(it);
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "upload " + std::to_string(chunk.upload_id()) + ": " + why,
+                          chunk.upload_id());
+    }
+    u.bytes += chunk.data();
+}
+
+void Connection::on_upload_end(const v1::UploadEnd& end) {
+    auto it = uploads_.find(end.upload_id());
+    if (it == uploads_.end())
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "upload " + std::to_string(end.upload_id()) + " was not begun",
+                          end.upload_id());
+    Upload u = std::move(it->second);
+    uploads_.erase(it);
+    if (u.bytes.size() != u.begin.total_bytes())
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "upload " + std::to_string(end.upload_id()) + " ended after " +
+                              std::to_string(u.bytes.size()) + " of " +
+                              std::to_string(u.begin.total_bytes()) + " bytes",
+                          end.upload_id());
+    service_.upload(shared_from_this(), std::move(u.begin), std::move(u.bytes));
+}
+
+void Connection::on_request(const v1::Request& request) {
+    if (active_requests_.count(request.request_id()))
+        return send_error(v1::Error::INVALID_ARGUMENT,
+                          "request " + std::to_string(request.request_id()) + " is already running",
+                          request.request_id());
+    service_.request(shared_from_this(), request);
+}
+
+void Connection::on_cancel(const v1::Cancel& cancel) {
+    const uint64_t id = cancel.request_id();
+    if (!active_requests_.count(id)) return; // finished already: nothing to cancel
+    active_requests_.erase(id);
+    drop_unstarted([&](const BulkItem& item) { return item.request_id == id; });
+    send_error(v1::Error::CANCELLED, "request " + std::to_string(id) + " cancelled", id);
+}
+
+void Connection::send_frame(std::string frame) {
+    if (closing_ || closed_) return;
+    queue_.push_control(std::move(frame));
+    account_queue();
+    pump();
+}
+
+void Connection::send_bulk(BulkItem item) {
+    if (closing_ || closed_) return;
+    queue_.push_bulk(std::move(item));
+    account_queue();
+    pump();
+}
+
+size_t Connection::drop_unstarted(const std::function<bool(const BulkItem&)>& stale) {
+    const size_t n = queue_.drop_unstarted(stale);
+    account_queue();
+    return n;
+}
+
+void Connection::send_error(v1::Error::Code code, const std::string& message, uint64_t request_id,
+                            bool close) {
+    v1::Error e;
+    e.set_code(code);
+    e.set_message(message);
+    e.set_request_id(request_id);
+    send(e);
+    if (close) {
+        closing_ = true;
+        pump(); // closes once the queue (with the error) is written
+    }
+}
+
+void Connection::drop(const std::string& reason) {
+    if (closed_) return;
+    spdlog::warn("dropping client {} ({}): {}", id_, peer_, reason);
+    ++service_.metrics().connections_dropped;
+    closing_ = true;
+    transport_->close(false);
+}
+
+void Connection::account_queue() {
+    const int64_t now = int64_t(queue_.pending_bytes());
+    service_.metrics().queue_bytes += now - accounted_queue_bytes_;
+    accounted_queue_bytes_ = now;
+    const size_t limit = service_.config().max_queue_mb << 20;
+    if (size_t(now) > limit && !closed_)
+        drop("over " + std::to_string(service_.config().max_queue_mb) +
+             " MiB waiting to be sent (it does not read fast enough)");
+}
+
+void Connection::pump() {
+    if (writing_ || closed_) return;
+    std::optional<std::string> frame = queue_.next_frame();
+    account_queue();
+    if (!frame) {
+        if (closing_) transport_->close(true);
+        return;
+    }
+    writing_ = true;
+    transport_->write(std::move(*frame));
+}
+
+void Connection::on_written(size_t bytes) {
+    writing_ = false;
+    service_.metrics().bytes_sent += bytes;
+    if (authenticated_ && !closing_) arm_idle_timer();
+    pump();
+}
+
+void Connection::on_closed(const std::string& why) {
+    if (closed_) return;
+    closed_ = true;
+    closing_ = true;
+    idle_timer_.cancel();
+    queue_.drop_unstarted([](const BulkItem&) { return true; });
+    account_queue();
+    service_.metrics().queue_bytes -= accounted_queue_bytes_;
+    accounted_queue_bytes_ = 0;
+    spdlog::info("client {} ({}) disconnected: {}", id_, peer_, why);
+    service_.connection_closed(*this);
+}
+
+} // namespace ddsimp::server

@@ -1,0 +1,86 @@
+// One client, on any transport: the handshake, the protocol's per-connection state (uploads in
+// progress, requests, sessions joined) and the send queue with its limits. Network thread only;
+// work for the compute pool goes through the Service.
+#pragma once
+
+#include "send_queue.h"
+#include "transport.h"
+
+#include <boost/asio/steady_timer.hpp>
+
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+
+namespace ddsimp::server {
+
+class Service;
+
+class Connection : public TransportHandler, public std::enable_shared_from_this<Connection> {
+public:
+    Connection(Service& service, std::shared_ptr<Transport> transport, uint64_t id);
+
+    void start();
+    uint64_t id() const { return id_; }
+    const v1::Member& member() const { return member_; }
+    const std::string& peer() const { return peer_; }
+    bool open() const { return !closed_; }
+    bool has_capability(const std::string& name) const { return capabilities_.count(name) > 0; }
+    std::set<std::string>& sessions() { return sessions_; }
+
+    template <class M> void send(const M& message) { send_frame(protocol::encode_frame(message)); }
+    void send_frame(std::string frame);
+    void send_bulk(BulkItem item);
+    size_t drop_unstarted(const std::function<bool(const BulkItem&)>& stale);
+    // Sends Error; `close` ends the connection after it is written.
+    void send_error(v1::Error::Code code, const std::string& message, uint64_t request_id = 0,
+                    bool close = false);
+    // Drops the client now, logging why (slow reader, over-limit queue, shutdown).
+    void drop(const std::string& reason);
+
+    void begin_request(uint64_t request_id) { active_requests_.insert(request_id); }
+    bool request_active(uint64_t request_id) const { return active_requests_.count(request_id); }
+    void end_request(uint64_t request_id) { active_requests_.erase(request_id); }
+
+    // TransportHandler
+    void on_frame(protocol::Frame frame) override;
+    void on_bad_frame(const std::string& why) override;
+    void on_closed(const std::string& why) override;
+    void on_written(size_t bytes) override;
+
+private:
+    void handle(const protocol::Frame& frame);
+    void on_hello(const v1::Hello& hello);
+    void on_auth(const v1::Auth& auth);
+    void on_upload_begin(const v1::UploadBegin& begin);
+    void on_upload_chunk(v1::UploadChunk& chunk);
+    void on_upload_end(const v1::UploadEnd& end);
+    void on_request(const v1::Request& request);
+    void on_cancel(const v1::Cancel& cancel);
+    void pump();
+    void account_queue();
+    void arm_idle_timer();
+
+    struct Upload {
+        v1::UploadBegin begin;
+        std::string bytes;
+    };
+
+    Service& service_;
+    std::shared_ptr<Transport> transport_;
+    const uint64_t id_;
+    std::string peer_;
+    v1::Member member_;
+    std::set<std::string> capabilities_;
+    bool hello_ = false, authenticated_ = false;
+    bool writing_ = false, closing_ = false, closed_ = false;
+    SendQueue queue_;
+    int64_t accounted_queue_bytes_ = 0;
+    std::map<uint64_t, Upload> uploads_;
+    std::set<uint64_t> active_requests_;
+    std::set<std::string> sessions_;
+    boost::asio::steady_timer idle_timer_;
+};
+
+} // namespace ddsimp::server

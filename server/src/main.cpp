@@ -1,0 +1,51 @@
+// ddsimp-server: listens for renderers and tools (native protocol and WebSocket), simplifies
+// on a thread pool, and stops cleanly on SIGTERM or SIGINT.
+#include "config.h"
+#include "http_server.h"
+#include "native_server.h"
+#include "service.h"
+
+#include <boost/asio/signal_set.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+    using namespace ddsimp::server;
+    const Config config = parse_config(argc, argv);
+    spdlog::set_default_logger(spdlog::stderr_color_mt("ddsimp"));
+    spdlog::set_level(spdlog::level::from_str(config.log_level));
+    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+    try {
+        boost::asio::io_context io(1);
+        std::unique_ptr<boost::asio::ssl::context> tls;
+        if (!config.tls_cert.empty()) {
+            tls =
+                std::make_unique<boost::asio::ssl::context>(boost::asio::ssl::context::tls_server);
+            tls->set_options(boost::asio::ssl::context::no_tlsv1 |
+                             boost::asio::ssl::context::no_tlsv1_1);
+            tls->use_certificate_chain_file(config.tls_cert);
+            tls->use_private_key_file(config.tls_key, boost::asio::ssl::context::pem);
+        }
+        Service service(io, config);
+        const auto address = boost::asio::ip::make_address(config.bind);
+        NativeServer native(io, service, {address, config.port}, tls.get());
+        HttpServer http(io, service, {address, config.http_port}, tls.get());
+        boost::asio::signal_set signals(io, SIGTERM, SIGINT);
+        signals.async_wait([&](boost::system::error_code, int signal) {
+            spdlog::info("signal {}: shutting down", signal);
+            native.stop();
+            http.stop();
+            service.stop();
+        });
+        spdlog::info("ddsimp-server ready: ddsimp remote list --server {}:{}", config.bind,
+                     config.port);
+        io.run();
+        spdlog::info("stopped");
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "ddsimp-server: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,57 @@
+#include "metrics.h"
+
+#include <sstream>
+
+namespace ddsimp::server {
+
+void Metrics::observe_job_seconds(double seconds) {
+    std::lock_guard lock(latency_mutex_);
+    for (size_t i = 0; i < kBuckets.size(); ++i)
+        if (seconds <= kBuckets[i]) ++bucket_counts_[i];
+    ++latency_count_;
+    latency_sum_ += seconds;
+}
+
+std::string Metrics::render(const Snapshot& s) const {
+    std::ostringstream out;
+    const auto metric = [&](const char* name, const char* type, const char* help, auto value) {
+        out << "# HELP ddsimp_" << name << ' ' << help << "\n# TYPE ddsimp_" << name << ' ' << type
+            << "\nddsimp_" << name << ' ' << value << '\n';
+    };
+    metric("connections", "gauge", "Open client connections.", connections.load());
+    metric("connections_total", "counter", "Connections accepted.", connections_total.load());
+    metric("connections_dropped_total", "counter",
+           "Clients dropped because they could not keep up.", connections_dropped.load());
+    metric("bad_frames_total", "counter", "Malformed or oversized frames received.",
+           bad_frames.load());
+    metric("sessions", "gauge", "Open sessions.", s.sessions);
+    metric("surfaces", "gauge", "Stored surfaces.", s.surfaces);
+    metric("uploads_total", "counter", "Surfaces uploaded.", uploads.load());
+    metric("requests_total", "counter", "Reduction requests received.", requests.load());
+    metric("request_errors_total", "counter", "Requests ended by an error.", request_errors.load());
+    metric("levels_sent_total", "counter", "Levels (or refinements) sent.", levels_sent.load());
+    metric("computations_total", "counter", "Records and levels computed (cache misses that ran).",
+           s.computations);
+    metric("cache_hits_total", "counter", "Result cache hits.", s.cache_hits);
+    metric("cache_misses_total", "counter", "Result cache misses.", s.cache_misses);
+    metric("cache_evictions_total", "counter", "Results evicted to stay within the bound.",
+           s.evictions);
+    metric("cache_bytes", "gauge", "Bytes held by cached results.", s.cache_bytes);
+    metric("cache_entries", "gauge", "Cached results.", s.cache_entries);
+    metric("queue_bytes", "gauge", "Bytes waiting to be sent, all clients.", queue_bytes.load());
+    metric("sent_bytes_total", "counter", "Bytes sent.", bytes_sent.load());
+    metric("received_bytes_total", "counter", "Bytes received.", bytes_received.load());
+
+    std::lock_guard lock(latency_mutex_);
+    out << "# HELP ddsimp_job_latency_seconds From a request's arrival to its levels being ready.\n"
+           "# TYPE ddsimp_job_latency_seconds histogram\n";
+    for (size_t i = 0; i < kBuckets.size(); ++i)
+        out << "ddsimp_job_latency_seconds_bucket{le=\"" << kBuckets[i] << "\"} "
+            << bucket_counts_[i] << '\n';
+    out << "ddsimp_job_latency_seconds_bucket{le=\"+Inf\"} " << latency_count_ << '\n'
+        << "ddsimp_job_latency_seconds_sum " << latency_sum_ << '\n'
+        << "ddsimp_job_latency_seconds_count " << latency_count_ << '\n';
+    return out.str();
+}
+
+} // namespace ddsimp::server

@@ -1,0 +1,45 @@
+// Counters for /metrics (Prometheus text format, names prefixed ddsimp_). Updated from the
+// network thread and the compute pool.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+namespace ddsimp::server {
+
+struct Metrics {
+    std::atomic<int64_t> connections{0};
+    std::atomic<uint64_t> connections_total{0};
+    std::atomic<uint64_t> connections_dropped{0}; // slow readers, over-limit queues
+    std::atomic<uint64_t> bad_frames{0};
+    std::atomic<uint64_t> requests{0};
+    std::atomic<uint64_t> request_errors{0};
+    std::atomic<uint64_t> uploads{0};
+    std::atomic<uint64_t> levels_sent{0};
+    std::atomic<int64_t> queue_bytes{0}; // waiting to be sent, all clients
+    std::atomic<uint64_t> bytes_sent{0};
+    std::atomic<uint64_t> bytes_received{0};
+
+    // Job latency: time from a request's arrival to its levels being ready to send.
+    void observe_job_seconds(double seconds);
+
+    // The exposition text; the cache, session and surface numbers are passed in.
+    struct Snapshot {
+        size_t sessions = 0, surfaces = 0;
+        size_t cache_hits = 0, cache_misses = 0, cache_bytes = 0, cache_entries = 0;
+        size_t computations = 0, evictions = 0;
+    };
+    std::string render(const Snapshot& s) const;
+
+private:
+    static constexpr std::array<double, 10> kBuckets{0.005, 0.01, 0.05, 0.1, 0.5, 1, 2, 5, 10, 30};
+    mutable std::mutex latency_mutex_;
+    std::array<uint64_t, kBuckets.size()> bucket_counts_{};
+    uint64_t latency_count_ = 0;
+    double latency_sum_ = 0;
+};
+
+} // namespace ddsimp::server

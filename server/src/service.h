@@ -1,0 +1,70 @@
+// The state every connection shares: stored surfaces, the result cache, sessions, metrics and
+// the compute pool. Its methods run on the network thread (one io_context thread); heavy work
+// (validation, storing, simplification, encoding) is posted to the pool and its results posted
+// back, so the shared state needs no locks beyond those of the store and cache.
+#pragma once
+
+#include "config.h"
+#include "connection.h"
+#include "metrics.h"
+#include "reductions.h"
+#include "sessions.h"
+#include "surface_store.h"
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/thread_pool.hpp>
+
+#include <map>
+#include <memory>
+
+namespace ddsimp::server {
+
+class Service {
+public:
+    Service(boost::asio::io_context& io, const Config& config);
+    ~Service();
+
+    // A new client; refused (with an error, then closed) above the client limit.
+    void accept(std::shared_ptr<Transport> transport);
+    void connection_closed(Connection& c);
+
+    const Config& config() const { return config_; }
+    Metrics& metrics() { return metrics_; }
+    boost::asio::io_context& io() { return io_; }
+    std::string metrics_text();
+    std::string server_name() const { return "ddsimp-server 0.1.0"; }
+
+    // Handlers, called by Connection once the client is authenticated.
+    void upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes);
+    void request(std::shared_ptr<Connection> c, const v1::Request& request);
+    void list_surfaces(Connection& c);
+    void join(std::shared_ptr<Connection> c, const std::string& name);
+    void leave(Connection& c, const std::string& name);
+    void set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change);
+
+    // Closes every connection (SIGTERM) and waits for running computations.
+    void stop();
+
+private:
+    void broadcast(const Session& s, const std::string& cause);
+    // Computes the session's current level and sends it to `targets` (ids), replacing any
+    // unsent older mesh of the session in their queues.
+    void send_session_mesh(const Session& s, std::vector<uint64_t> targets);
+    std::shared_ptr<Connection> find(uint64_t id);
+    void load_sample();
+
+    boost::asio::io_context& io_;
+    Config config_;
+    Metrics metrics_;
+    SurfaceStore store_;
+    ResultCache cache_;
+    Reductions reductions_;
+    Sessions sessions_;
+    boost::asio::thread_pool pool_;
+    std::map<uint64_t, std::weak_ptr<Connection>> connections_;
+    std::map<std::string, ReductionParams> known_results_; // result key -> what it computes
+    uint64_t next_id_ = 1;
+    bool stopping_ = false;
+};
+
+} // namespace ddsimp::server
