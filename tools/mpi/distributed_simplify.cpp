@@ -85,12 +85,6 @@ Plan make_plan(const cli::SimplifyArgs& args, const Options& options, int ranks)
     }
     plan.pieces =
         split_surface(plan.whole, bisect_triangles(plan.whole, uint32_t(ranks)), uint32_t(ranks));
-    for (const Piece& piece : plan.pieces)
-        if (!piece.borders_distinct || piece.surface.triangles.empty()) {
-            plan.pieces.clear();
-            plan.why_whole = "border vertices that coincide exactly in position and data";
-            return plan;
-        }
     plan.split = true;
     return plan;
 }
@@ -107,13 +101,12 @@ ReducedPiece simplify_piece(const Piece& piece, size_t target, const Options& op
     const auto start = Clock::now();
     Options o = with_target(options, target);
     o.locked = piece.locked;
-    Result r = simplify(piece.surface, o);
-    ReducedPiece reduced{std::move(r.surface), {}};
-    reduced.border = find_border_vertices(piece, reduced.surface);
+    const ProgressiveRecord record = ProgressiveRecord::build(piece.surface, o);
+    ReducedPiece reduced = reduce_piece(piece, record);
     report.triangles_in = piece.surface.triangle_count();
     report.triangles_out = reduced.surface.triangle_count();
     report.locked = uint64_t(std::count(piece.locked.begin(), piece.locked.end(), 1));
-    report.operations = r.operations;
+    report.operations = record.operations();
     report.seconds = cli::seconds_since(start);
     return reduced;
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -39,15 +38,6 @@ void bisect(std::vector<uint32_t>::iterator begin, std::vector<uint32_t>::iterat
     });
     bisect(begin, middle, first, left, centroid, piece_of);
     bisect(middle, end, first + left, parts - left, centroid, piece_of);
-}
-
-// A vertex's position and data as raw bytes: what a locked vertex keeps exactly.
-std::string vertex_bytes(const Surface& s, size_t v) {
-    std::string key(reinterpret_cast<const char*>(&s.positions[3 * v]), 3 * sizeof(float));
-    for (const Field& f : s.fields)
-        key.append(reinterpret_cast<const char*>(&f.values[v * size_t(f.components)]),
-                   size_t(f.components) * sizeof(float));
-    return key;
 }
 
 } // namespace
@@ -117,39 +107,41 @@ std::vector<Piece> split_surface(const Surface& s, const std::vector<uint32_t>& 
                     g.values.insert(g.values.end(), &f.values[v * nc], &f.values[v * nc] + nc);
             piece.surface.fields.push_back(std::move(g));
         }
-        // No other vertex of the piece may look exactly like a border vertex.
-        std::unordered_map<std::string, uint32_t> border;
-        for (uint32_t v = 0; v < count; ++v)
-            if (piece.border[v] != kNoId &&
-                !border.emplace(vertex_bytes(piece.surface, v), v).second)
-                piece.borders_distinct = false;
-        for (uint32_t v = 0; v < count && piece.borders_distinct; ++v)
-            if (piece.border[v] == kNoId && border.count(vertex_bytes(piece.surface, v)))
-                piece.borders_distinct = false;
     }
     return pieces;
 }
 
-std::vector<uint32_t> find_border_vertices(const Piece& piece, const Surface& reduced) {
-    std::unordered_map<std::string, uint32_t> border;
-    for (size_t v = 0; v < piece.border.size(); ++v)
-        if (piece.border[v] != kNoId)
-            border.emplace(vertex_bytes(piece.surface, v), piece.border[v]);
-    std::vector<uint32_t> ids(reduced.vertex_count(), kNoId);
-    size_t found = 0;
-    for (size_t v = 0; v < reduced.vertex_count(); ++v) {
-        const auto it = border.find(vertex_bytes(reduced, v));
-        if (it == border.end()) continue;
-        if (it->second == kNoId)
-            throw std::runtime_error("a border vertex appears twice in its simplified piece");
-        ids[v] = it->second;
-        it->second = kNoId;
-        ++found;
+ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record) {
+    const Surface& vertices = record.vertices();
+    std::vector<uint32_t> triangles = record.indexed_triangles(record.operations());
+    const size_t nv = vertices.vertex_count();
+    std::vector<uint32_t> index(nv, kNoId);
+    for (uint32_t v : triangles) index[v] = 0;
+    ReducedPiece out;
+    uint32_t count = 0;
+    for (size_t v = 0; v < nv; ++v) {
+        if (index[v] == kNoId) continue;
+        index[v] = count++;
+        out.surface.positions.insert(out.surface.positions.end(), &vertices.positions[3 * v],
+                                     &vertices.positions[3 * v] + 3);
+        out.border.push_back(v < piece.border.size() ? piece.border[v] : kNoId);
     }
-    if (found != border.size())
-        throw std::runtime_error(std::to_string(border.size() - found) +
-                                 " border vertices are missing from a simplified piece");
-    return ids;
+    for (const Field& f : vertices.fields) {
+        Field g{f.name, f.components, {}};
+        const size_t nc = size_t(f.components);
+        g.values.reserve(size_t(count) * nc);
+        for (size_t v = 0; v < nv; ++v)
+            if (index[v] != kNoId)
+                g.values.insert(g.values.end(), &f.values[v * nc], &f.values[v * nc] + nc);
+        out.surface.fields.push_back(std::move(g));
+    }
+    for (uint32_t& v : triangles) v = index[v];
+    out.surface.triangles = std::move(triangles);
+    for (size_t v = 0; v < piece.border.size(); ++v)
+        if (piece.border[v] != kNoId && index[v] == kNoId)
+            throw std::runtime_error("border vertex " + std::to_string(piece.border[v]) +
+                                     " was lost in its piece");
+    return out;
 }
 
 Surface stitch(const std::vector<ReducedPiece>& pieces) {

@@ -29,26 +29,23 @@ struct Piece {
     std::vector<uint8_t> locked;  // per vertex: a border vertex or a neighbour of one
     std::vector<uint32_t> border; // per vertex: its global id if shared with another piece,
                                   // else kNoId
-    // Are the border vertices told apart by their position and data alone? (See
-    // find_border_vertices; false only if two of them coincide exactly.)
-    bool borders_distinct = true;
 };
 
 // The pieces of `surface` (validated: indices in range) for the given triangle assignment.
 std::vector<Piece> split_surface(const Surface& surface, const std::vector<uint32_t>& piece_of,
                                  uint32_t parts);
 
-// The global id of each vertex of `reduced` (a simplification of `piece` with its locks) that is
-// one of the piece's border vertices, else kNoId. Locked vertices keep their position and data
-// bit for bit, so they are found by those. Throws std::runtime_error if a border vertex is
-// missing or found twice.
-std::vector<uint32_t> find_border_vertices(const Piece& piece, const Surface& reduced);
-
 // A simplified piece and the global ids of its border vertices (kNoId for the others).
 struct ReducedPiece {
     Surface surface;
     std::vector<uint32_t> border;
 };
+
+// The piece after all the operations of `record` (built from piece.surface with piece.locked),
+// vertices in the order of their record ids like ProgressiveRecord::after. A border vertex's
+// neighbours are all locked, so no operation touches it and it keeps its id: it is found by that,
+// not by its coordinates (which need not be unique). Throws std::runtime_error if one is gone.
+ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record);
 
 // One surface from the pieces, in piece order: every vertex once, a border vertex shared by
 // several pieces welded into one (the first piece's copy). Every piece must have the same fields.
