@@ -1,0 +1,413 @@
+#!/usr/bin/python3
+"""The fidelity and speed report: runs every reduction, one process each, and writes the report.
+
+    report.py --build DIR --surfaces DIR --out DIR [--quick] [--scaling DIR] [--no-images]
+
+For every surface in --surfaces, every level and every simplifier (ddsimp edge collapse and vertex
+removal at each alpha, meshoptimizer, vtkQuadricDecimation with attributes, vtkDecimatePro with
+the topology preserved, OpenMesh's Decimater), `ddsimp_report reduce` runs the reduction in a
+fresh process and prints its measurements. This script gathers them into results.csv, writes
+report.md with the tables and the goals checked, and the plots; with --scaling it times the
+simplifiers on surfaces of growing size (scaling.csv, time-vs-size.png). Rendered images come from
+render.py (run under Xvfb by run.sh). Needs python3-matplotlib.
+"""
+
+import argparse
+import csv
+import datetime
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+
+ALPHAS = [0.0, 0.5, 1.0]
+LEVELS = [0.5, 0.25, 0.1, 0.05]
+PEERS = ["meshopt", "vtk-quadric", "vtk-decimatepro", "openmesh"]
+DDSIMP = ["ddsimp-edge", "ddsimp-vertex"]
+GOAL_LEVEL = 0.1
+HAUSDORFF_GOAL = 1.5  # alpha = 1: within this factor of the best peer
+FLOAT_NOISE = 1e-6  # relative distances below this are float rounding, not error
+
+COLUMNS = [
+    "surface", "simplifier", "alpha", "keep", "status", "message", "triangles_in", "target",
+    "triangles_out", "triangles_seen", "seconds", "cpu_seconds", "peak_rss_mb", "call_rss_mb",
+    "geometric_rms", "geometric_hausdorff", "data_rms", "data_max", "fields_lost", "topology_kept",
+    "euler_in", "euler_out", "boundary_loops_in", "boundary_loops_out", "components_in",
+    "components_out", "nonmanifold_edges_in", "nonmanifold_edges_out",
+]
+SCALING_COLUMNS = ["surface", "simplifier", "alpha", "triangles_in", "target", "triangles_out",
+                   "status", "message", "repetitions", "median_seconds", "peak_rss_mb"]
+
+
+def configurations():
+    """(simplifier, alpha) pairs; alpha is None for the peers (they have none)."""
+    return [(d, a) for d in DDSIMP for a in ALPHAS] + [(p, None) for p in PEERS]
+
+
+def run_one(tool, surface, simplifier, alpha, keep, timeout, output=None, compare=True):
+    """One reduction in its own process; a dict of its measurements (status says what happened)."""
+    cmd = [tool, "reduce", surface, "--peer", simplifier, "--keep", str(keep)]
+    if alpha is not None:
+        cmd += ["--alpha", str(alpha)]
+    if output:
+        cmd += ["-o", output]
+    if not compare:
+        cmd.append("--no-compare")
+    try:
+        done = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout", "message": f"no result within {timeout:.0f} s"}
+    if done.returncode != 0 or not done.stdout.strip():
+        last = (done.stderr.strip().splitlines() or ["no output"])[-1]
+        how = (f"killed by signal {-done.returncode}" if done.returncode < 0
+               else f"exit status {done.returncode}")
+        return {"status": "crashed", "message": f"{how}: {last}"[:300]}
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def row_of(surface, simplifier, alpha, keep, r):
+    t_in, t_out = r.get("topology_in", {}), r.get("topology_out", {})
+    mb = lambda key: r[key] / 2**20 if key in r else None
+    return {
+        "surface": surface, "simplifier": simplifier,
+        "alpha": "" if alpha is None else alpha, "keep": keep,
+        "status": r.get("status"), "message": r.get("message", ""),
+        "triangles_in": r.get("triangles_in"), "target": r.get("target"),
+        "triangles_out": r.get("triangles_out"), "triangles_seen": r.get("triangles_seen"),
+        "seconds": r.get("seconds"), "cpu_seconds": r.get("cpu_seconds"),
+        "peak_rss_mb": mb("peak_rss_bytes"), "call_rss_mb": mb("call_rss_bytes"),
+        "geometric_rms": r.get("geometric_rms"), "geometric_hausdorff": r.get("geometric_hausdorff"),
+        "data_rms": r.get("data_rms"), "data_max": r.get("data_max"),
+        "fields_lost": " ".join(r.get("fields_lost", [])),
+        "topology_kept": r.get("topology_kept"),
+        "euler_in": t_in.get("euler"), "euler_out": t_out.get("euler"),
+        "boundary_loops_in": t_in.get("boundary_loops"),
+        "boundary_loops_out": t_out.get("boundary_loops"),
+        "components_in": t_in.get("components"), "components_out": t_out.get("components"),
+        "nonmanifold_edges_in": t_in.get("nonmanifold_edges"),
+        "nonmanifold_edges_out": t_out.get("nonmanifold_edges"),
+    }
+
+
+def label(row):
+    a = row["alpha"]
+    return row["simplifier"] if a in ("", None) else f"{row['simplifier']} α={float(a):g}"
+
+
+def fmt(x, digits=4):
+    if x is None or x == "":
+        return "—"
+    if isinstance(x, float):
+        return f"{x:.{digits}g}" if abs(x) < 1e4 else f"{x:,.0f}"
+    return f"{x:,}" if isinstance(x, int) else str(x)
+
+
+def counts(row):
+    """Usable for comparison: it ran, reached its target, and its errors were measured."""
+    return row["status"] == "ok" and row["data_rms"] is not None
+
+
+# --- goals ----------------------------------------------------------------------------------
+
+def check_goals(rows):
+    """Per surface: the data-error goal (alpha = 0) and the Hausdorff goal (alpha = 1) at 10%."""
+    out = []
+    for surface in sorted({r["surface"] for r in rows}):
+        at = [r for r in rows if r["surface"] == surface and r["keep"] == GOAL_LEVEL]
+        peers = [r for r in at if r["simplifier"] in PEERS]
+        usable = [p for p in peers if counts(p)]
+        best_data = min(usable, key=lambda p: p["data_rms"], default=None)
+        best_hd = min(usable, key=lambda p: p["geometric_hausdorff"], default=None)
+        for strategy in DDSIMP:
+            d0 = next((r for r in at if r["simplifier"] == strategy and r["alpha"] == 0.0), None)
+            d1 = next((r for r in at if r["simplifier"] == strategy and r["alpha"] == 1.0), None)
+            g = {"surface": surface, "strategy": strategy, "d0": d0, "d1": d1,
+                 "best_data": best_data, "best_hd": best_hd,
+                 "not_counted": [p for p in peers if not counts(p)]}
+            g["data_ok"] = bool(d0 and counts(d0) and d0["topology_kept"] and
+                                all(d0["data_rms"] < p["data_rms"] for p in usable))
+            # Distances below FLOAT_NOISE (of the diagonal) are rounding: a plane stays a plane.
+            g["hd_ok"] = bool(d1 and counts(d1) and (best_hd is None or d1["geometric_hausdorff"]
+                              <= HAUSDORFF_GOAL * best_hd["geometric_hausdorff"] + FLOAT_NOISE))
+            out.append(g)
+    return out
+
+
+# --- plots ------------------------------------------------------------------------------------
+
+def plot_data_error(rows, out_dir, surfaces):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = len(surfaces)
+    cols = min(4, n)
+    nrows = math.ceil(n / cols)
+    fig, axes = plt.subplots(nrows, cols, figsize=(4 * cols, 3.2 * nrows), squeeze=False)
+    styles = {"ddsimp-edge": ("tab:blue", "o"), "ddsimp-vertex": ("tab:orange", "s"),
+              "meshopt": ("tab:green", "^"), "vtk-quadric": ("tab:red", "v"),
+              "vtk-decimatepro": ("tab:purple", "D"), "openmesh": ("tab:brown", "x")}
+    for ax, surface in zip(axes.flat, surfaces):
+        for simplifier, alpha in configurations():
+            if alpha not in (None, 0.0):
+                continue  # the data-error plot shows ddsimp at alpha = 0 (data only)
+            pts = sorted((r["triangles_out"], r["data_rms"]) for r in rows
+                         if r["surface"] == surface and r["simplifier"] == simplifier
+                         and (alpha is None or r["alpha"] == alpha) and r["data_rms"] is not None
+                         and r["triangles_out"])
+            if not pts:
+                continue
+            colour, marker = styles[simplifier]
+            name = simplifier + (" α=0" if alpha is not None else "")
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker=marker, color=colour,
+                    label=name, linewidth=1, markersize=4)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(surface, fontsize=9)
+        ax.set_xlabel("triangles", fontsize=8)
+        ax.set_ylabel("data error RMS (of range)", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=6, fontsize=8)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    path = os.path.join(out_dir, "data-error-vs-triangles.png")
+    fig.savefig(path, dpi=70)
+    plt.close(fig)
+    return path
+
+
+def plot_scaling(scaling, out_dir):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    for name in sorted({s["simplifier"] for s in scaling}):
+        pts = sorted((s["triangles_in"], s["median_seconds"]) for s in scaling
+                     if s["simplifier"] == name and s["median_seconds"] is not None
+                     and s["status"] in ("ok", "not reached"))
+        if pts:
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("input triangles (carotid isosurfaces, resampled volume)")
+    ax.set_ylabel("seconds to 10% (median)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = os.path.join(out_dir, "time-vs-size.png")
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+# --- the report -------------------------------------------------------------------------------
+
+def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed):
+    commit = os.environ.get("DDSIMP_REPORT_COMMIT") or subprocess.run(
+        ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+        cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
+    cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo")
+                if l.startswith("model name")), platform.processor())
+    load = open("/proc/loadavg").read().split()[:3]
+    L = []
+    L.append("# ddsimp against its peers: fidelity and speed\n")
+    L.append(f"Generated {datetime.date.today()} at commit {commit or 'unknown'} on "
+             f"{os.cpu_count()} × {cpu} (load average {' '.join(load)} at the end), "
+             f"{'quick mode, ' if quick else ''}in {elapsed / 60:.1f} min by "
+             "`bench/report/run.sh" + (" --quick" if quick else "") + "`.\n")
+    L.append("Every reduction ran in its own process (`ddsimp_report reduce`); time is the "
+             "simplifier's call alone (wall clock, one thread), memory the process's peak RSS "
+             "(`ru_maxrss`, loaded surface included) and the rise of the RSS during the call. "
+             "Errors are measured by the same code for every simplifier (`tools/compare.h`, as "
+             "`ddsimp compare`): geometric RMS and Hausdorff distance both ways, relative to the "
+             "bounding-box diagonal; data error RMS and max at the closest points, relative to the "
+             "field's range, of the worst field. Topology kept: Euler characteristic, boundary "
+             "loops and components equal to the input's, no new non-manifold edge, no degenerate "
+             "or duplicate triangle. A run counts only if its status is `ok` (it reached the "
+             "target within 2% and reported no error); the others are listed, not hidden.\n")
+
+    L.append("## Goals at 10% of the triangles\n")
+    L.append("| surface | strategy | data RMS at α=0 | best peer (data RMS) | data goal | "
+             "topology | Hausdorff at α=1 | best peer (Hausdorff) | ratio | Hausdorff goal | "
+             "peers not counted |")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for g in goals:
+        d0, d1, bd, bh = g["d0"], g["d1"], g["best_data"], g["best_hd"]
+        ratio = (d1["geometric_hausdorff"] / bh["geometric_hausdorff"]
+                 if d1 and bh and d1.get("geometric_hausdorff") is not None
+                 and bh["geometric_hausdorff"] > FLOAT_NOISE else None)
+        nc = ", ".join(f"{p['simplifier']} ({p['status']})" for p in g["not_counted"]) or "—"
+        L.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+            g["surface"], g["strategy"].replace("ddsimp-", ""),
+            fmt(d0 and d0["data_rms"]), f"{bd['simplifier']} {fmt(bd['data_rms'])}" if bd else "—",
+            "**met**" if g["data_ok"] else "**missed**",
+            "kept" if d0 and d0["topology_kept"] else "changed",
+            fmt(d1 and d1["geometric_hausdorff"]),
+            f"{bh['simplifier']} {fmt(bh['geometric_hausdorff'])}" if bh else "—",
+            fmt(ratio, 3), "**met**" if g["hd_ok"] else "**missed**", nc))
+    met_d = sum(g["data_ok"] for g in goals)
+    met_h = sum(g["hd_ok"] for g in goals)
+    L.append(f"\nData goal met in {met_d} of {len(goals)} (surface, strategy) pairs; Hausdorff "
+             f"goal in {met_h} of {len(goals)}.\n")
+
+    L.append("## Peers: topology and failures\n")
+    L.append("| simplifier | runs | ok | not reached | failed / crashed / timeout | topology kept "
+             "(of runs with output) | what went wrong (first) |")
+    L.append("|---|---|---|---|---|---|---|")
+    for name in DDSIMP + PEERS:
+        rs = [r for r in rows if r["simplifier"] == name]
+        if not rs:
+            continue
+        bad = [r for r in rs if r["status"] in ("failed", "crashed", "timeout")]
+        with_out = [r for r in rs if r["topology_kept"] is not None]
+        msg = next((f"{r['surface']}: {r['message']}" for r in rs
+                    if r["status"] != "ok" and r["message"]), "")
+        L.append(f"| {name} | {len(rs)} | {sum(r['status'] == 'ok' for r in rs)} | "
+                 f"{sum(r['status'] == 'not reached' for r in rs)} | {len(bad)} | "
+                 f"{sum(bool(r['topology_kept']) for r in with_out)} / {len(with_out)} | "
+                 f"{msg[:160]} |")
+    L.append("")
+
+    if scaling:
+        L.append("## Time against input size (10%, carotid isosurfaces)\n")
+        sizes = sorted({s["triangles_in"] for s in scaling if s["triangles_in"]})
+        names = sorted({s["simplifier"] for s in scaling})
+        L.append("| simplifier | " + " | ".join(f"{n:,}" for n in sizes) + " |")
+        L.append("|---|" + "---|" * len(sizes))
+        for name in names:
+            cells = []
+            for n in sizes:
+                s = next((s for s in scaling if s["simplifier"] == name
+                          and s["triangles_in"] == n), None)
+                if not s:
+                    cells.append("—")
+                elif s["status"] in ("ok", "not reached") and s["median_seconds"] is not None:
+                    extra = "" if s["status"] == "ok" else f" (stops at {s['triangles_out'] / n:.0%})"
+                    cells.append(f"{s['median_seconds']:.2f} s{extra}")
+                else:
+                    cells.append(s["status"])
+            L.append(f"| {name} | " + " | ".join(cells) + " |")
+        L.append("\nMedian seconds of the simplifier's call (repetitions: 3 below 200 k "
+                 "triangles, 1 above); ddsimp at α = 0.5. ![time against size](time-vs-size.png)\n")
+
+    L.append("## Plots and images\n")
+    L.append("![data error against triangles](data-error-vs-triangles.png)\n")
+    for caption, path in images:
+        L.append(f"![{caption}]({os.path.basename(path)})\n")
+
+    L.append("## Every surface and level\n")
+    for surface in surfaces:
+        rs = [r for r in rows if r["surface"] == surface]
+        L.append(f"### {surface} ({fmt(rs[0]['triangles_in'])} triangles)\n")
+        L.append("| simplifier | keep | status | triangles | s | peak MB | geo RMS | Hausdorff | "
+                 "data RMS | data max | topology |")
+        L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+        for r in rs:
+            topo = ("kept" if r["topology_kept"] else
+                    "—" if r["topology_kept"] is None else
+                    f"χ {r['euler_in']}→{r['euler_out']}, loops {r['boundary_loops_in']}→"
+                    f"{r['boundary_loops_out']}, comp. {r['components_in']}→{r['components_out']}, "
+                    f"nm {r['nonmanifold_edges_in']}→{r['nonmanifold_edges_out']}")
+            status = r["status"] + (f": {r['message']}" if r["message"] else "")
+            L.append(f"| {label(r)} | {r['keep']:g} | {status[:120]} | {fmt(r['triangles_out'])} | "
+                     f"{fmt(r['seconds'], 3)} | {fmt(r['peak_rss_mb'], 4)} | "
+                     f"{fmt(r['geometric_rms'], 3)} | {fmt(r['geometric_hausdorff'], 3)} | "
+                     f"{fmt(r['data_rms'], 3)} | {fmt(r['data_max'], 3)} | {topo} |")
+        L.append("")
+    with open(os.path.join(out_dir, "report.md"), "w") as f:
+        f.write("\n".join(L) + "\n")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("--build", required=True)
+    ap.add_argument("--surfaces", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--quick", action="store_true", help="one level (10%%), no timeout over 60 s")
+    ap.add_argument("--scaling", help="directory of the scaling surfaces (scale-*.vtp)")
+    ap.add_argument("--render-surface", default="earth",
+                    help="surface whose reductions at 10%% are written for render.py")
+    args = ap.parse_args()
+
+    tool = os.path.join(args.build, "bench", "report", "ddsimp_report")
+    os.makedirs(args.out, exist_ok=True)
+    meshes = os.path.join(args.out, "meshes")
+    os.makedirs(meshes, exist_ok=True)
+    levels = [GOAL_LEVEL] if args.quick else LEVELS
+    timeout = 60 if args.quick else 600
+    files = sorted(f for f in os.listdir(args.surfaces) if f.endswith(".vtp")
+                   and not f.endswith(".partial.vtp") and not f.startswith("scale-"))
+    start = time.time()
+    rows = []
+    for f in files:
+        surface = f[:-4]
+        path = os.path.join(args.surfaces, f)
+        for keep in levels:
+            for simplifier, alpha in configurations():
+                out_mesh = None
+                if surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0):
+                    out_mesh = os.path.join(meshes, f"{surface}-{simplifier}.vtp")
+                r = run_one(tool, path, simplifier, alpha, keep, timeout, out_mesh)
+                rows.append(row_of(surface, simplifier, alpha, keep, r))
+                print(f"{surface} {keep:g} {label(rows[-1])}: {r.get('status')} "
+                      f"{r.get('triangles_out', '')} {r.get('seconds', 0):.2f}s "
+                      f"data {r.get('data_rms', '—')}", file=sys.stderr, flush=True)
+    with open(os.path.join(args.out, "results.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("" if r[k] is None else r[k]) for k in COLUMNS})
+
+    scaling = []
+    if args.scaling:
+        for f in sorted(x for x in os.listdir(args.scaling) if x.startswith("scale-")
+                        and x.endswith(".vtp") and not x.endswith(".partial.vtp")):
+            path = os.path.join(args.scaling, f)
+            for simplifier in DDSIMP + PEERS:
+                alpha = 0.5 if simplifier in DDSIMP else None
+                runs = []
+                for rep in range(3):
+                    r = run_one(tool, path, simplifier, alpha, GOAL_LEVEL, 420, compare=False)
+                    runs.append(r)
+                    if r.get("status") not in ("ok", "not reached") or r["triangles_in"] > 200_000:
+                        break
+                times = sorted(r["seconds"] for r in runs if "seconds" in r)
+                last = runs[-1]
+                scaling.append({
+                    "surface": f[:-4], "simplifier": simplifier,
+                    "alpha": "" if alpha is None else alpha,
+                    "triangles_in": last.get("triangles_in"), "target": last.get("target"),
+                    "triangles_out": last.get("triangles_out"), "status": last.get("status"),
+                    "message": last.get("message", ""), "repetitions": len(times),
+                    "median_seconds": times[len(times) // 2] if times else None,
+                    "peak_rss_mb": last["peak_rss_bytes"] / 2**20 if "peak_rss_bytes" in last
+                    else None})
+                print(f"scaling {f} {simplifier}: {scaling[-1]['status']} "
+                      f"{scaling[-1]['median_seconds']}", file=sys.stderr, flush=True)
+        with open(os.path.join(args.out, "scaling.csv"), "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=SCALING_COLUMNS)
+            w.writeheader()
+            for s in scaling:
+                w.writerow({k: ("" if s[k] is None else s[k]) for k in SCALING_COLUMNS})
+        plot_scaling(scaling, args.out)
+
+    surfaces_by_size = sorted({r["surface"] for r in rows},
+                              key=lambda s: next(r["triangles_in"] or 0 for r in rows
+                                                 if r["surface"] == s))
+    plot_data_error(rows, args.out, surfaces_by_size)
+    goals = check_goals(rows)
+    images = []
+    picture = os.path.join(args.out, f"{args.render_surface}-10pct.png")
+    if os.path.exists(picture) or not args.quick:
+        images.append((f"{args.render_surface} at 10%, coloured by its data", picture))
+    write_report(rows, surfaces_by_size, goals, scaling, args.out, args.quick, images, time.time() - start)
+    print(f"report.py: wrote {args.out}/report.md, results.csv", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# The fidelity and speed report against the peers, in one command: builds (release preset) unless
+# told where the programs are, makes the surfaces from ../shared/data, runs every reduction in its
+# own process, and writes bench/results/report/ (git-ignored): report.md, results.csv,
+# scaling.csv, data-error-vs-triangles.png, time-vs-size.png and earth-10pct.png (the surface and
+# its reductions coloured by their data, rendered off-screen under Xvfb).
+#
+# Usage: bench/report/run.sh [--quick] [--out DIR]
+#   --quick   two small surfaces, one level (10%), no scaling and no rendering: the smoke test
+# Environment:
+#   DDSIMP_REPORT_BUILD_DIR  use ddsimp and ddsimp_report already built there (skip the build)
+#   DDSIMP_SHARED_DATA       the shared data directory (default: ../shared/data beside the repo)
+#   DDSIMP_REPORT_COMMIT     the commit the programs were built from (default: git HEAD)
+# Needs: python3-matplotlib; for the images python3-vtk9 and xvfb (scripts/install-deps.sh).
+# The full run takes about 40 minutes on 2 cores.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$(dirname "$here")")
+out="$root/bench/results/report"
+quick=false
+while (($#)); do
+    case "$1" in
+    --quick) quick=true ;;
+    --out)
+        out=$2
+        shift
+        ;;
+    *)
+        echo "usage: bench/report/run.sh [--quick] [--out DIR]" >&2
+        exit 2
+        ;;
+    esac
+    shift
+done
+
+build="${DDSIMP_REPORT_BUILD_DIR:-}"
+if [[ -z "$build" ]]; then
+    (cd "$root" && cmake --preset release && cmake --build --preset release \
+        --target ddsimp_cli ddsimp_report)
+    build="$root/build/release"
+fi
+python=/usr/bin/python3 # Debian's, with python3-matplotlib and python3-vtk9
+mkdir -p "$out"
+
+if $quick; then
+    surfaces="$out/surfaces"
+    "$here/make-surfaces.sh" "$build" "$surfaces" --quick
+    "$python" "$here/report.py" --build "$build" --surfaces "$surfaces" --out "$out" --quick
+    exit 0
+fi
+
+# The full surfaces are big: keep them with the benchmark data (git-ignored) across runs.
+surfaces="$root/bench/data/report"
+"$here/make-surfaces.sh" "$build" "$surfaces"
+"$here/make-surfaces.sh" "$build" "$surfaces" --scaling
+"$python" "$here/report.py" --build "$build" --surfaces "$surfaces" --out "$out" \
+    --scaling "$surfaces" --render-surface earth
+xvfb-run -a -s "-screen 0 1280x1024x24" "$python" "$here/render.py" \
+    "$surfaces/earth.vtp" "$out/meshes" "$out/earth-10pct.png"
+echo "run.sh: wrote $out/report.md"
