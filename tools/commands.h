@@ -20,5 +20,8 @@ Command add_simplify_command(CLI::App& app);
 Command add_info_command(CLI::App& app);
 Command add_compare_command(CLI::App& app);
 Command add_isosurface_command(CLI::App& app);
+#ifdef DDSIMP_HAVE_REMOTE
+Command add_remote_command(CLI::App& app); // ddsimp remote upload|list|simplify|watch|set
+#endif
 
 } // namespace ddsimp::cli

@@ -29,8 +29,11 @@ int main(int argc, char** argv) {
     CLI::App app{"ddsimp: data-dependent surface simplification (Frank & Lang)\n"
                  "Exit status: 0 success, 1 input or I/O error, 2 usage error."};
     app.require_subcommand(1);
-    const std::vector<Command> commands = {add_simplify_command(app), add_info_command(app),
-                                           add_compare_command(app), add_isosurface_command(app)};
+    std::vector<Command> commands = {add_simplify_command(app), add_info_command(app),
+                                     add_compare_command(app), add_isosurface_command(app)};
+#ifdef DDSIMP_HAVE_REMOTE
+    commands.push_back(add_remote_command(app));
+#endif
 
     // CLI11 would only say "a subcommand is required" for a misspelt one.
     if (argc > 1 && argv[1][0] != '-') {
@@ -38,7 +41,8 @@ int main(int argc, char** argv) {
         for (const Command& c : commands) known = known || c.app->check_name(argv[1]);
         if (!known)
             return fail(kExitUsageError, std::string("unknown command '") + argv[1] +
-                                             "' (commands: simplify, info, compare, isosurface)");
+                                             "' (commands: simplify, info, compare, isosurface" +
+                                             (commands.size() > 4 ? ", remote)" : ")"));
     }
 
     try {
