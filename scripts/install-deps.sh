@@ -8,6 +8,7 @@ packages=(
     libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
+    yamllint shellcheck
 )
 
 missing=()
