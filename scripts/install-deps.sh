@@ -9,6 +9,7 @@ packages=(
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
     yamllint shellcheck
+    python3-matplotlib python3-vtk9 xvfb xauth
 )
 
 missing=()

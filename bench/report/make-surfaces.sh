@@ -83,7 +83,7 @@ full)
     iso scale-carotid-r1 carotid.vtk --field scalars --value 127 --carry vectors
     iso scale-carotid-r2 carotid.vtk --field scalars --value 127 --resample 2 --carry vectors
     iso scale-carotid-r3 carotid.vtk --field scalars --value 127 --resample 3 --carry vectors
-    iso scale-carotid-r5 carotid.vtk --field scalars --value 127 --resample 5 --carry vectors
+    iso scale-carotid-r6 carotid.vtk --field scalars --value 127 --resample 6 --carry vectors
     ;;
 *)
     echo "make-surfaces.sh: unknown mode $mode" >&2
