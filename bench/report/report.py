@@ -19,6 +19,7 @@ import json
 import math
 import os
 import platform
+import shutil
 import subprocess
 import sys
 import time
@@ -256,9 +257,9 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              f"goal in {met_h} of {len(goals)}.\n")
 
     L.append("## Peers: topology and failures\n")
-    L.append("| simplifier | runs | ok | not reached | failed / crashed / timeout | topology kept "
-             "(of runs with output) | what went wrong (first) |")
-    L.append("|---|---|---|---|---|---|---|")
+    L.append("| simplifier | runs | ok | not reached | failed / crashed / timeout | not run "
+             "(budget) | topology kept (of runs with output) | what went wrong (first) |")
+    L.append("|---|---|---|---|---|---|---|---|")
     for name in DDSIMP + PEERS:
         rs = [r for r in rows if r["simplifier"] == name]
         if not rs:
@@ -266,9 +267,10 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
         bad = [r for r in rs if r["status"] in ("failed", "crashed", "timeout")]
         with_out = [r for r in rs if r["topology_kept"] is not None]
         msg = next((f"{r['surface']}: {r['message']}" for r in rs
-                    if r["status"] != "ok" and r["message"]), "")
+                    if r["status"] not in ("ok", "not run") and r["message"]), "")
         L.append(f"| {name} | {len(rs)} | {sum(r['status'] == 'ok' for r in rs)} | "
                  f"{sum(r['status'] == 'not reached' for r in rs)} | {len(bad)} | "
+                 f"{sum(r['status'] == 'not run' for r in rs)} | "
                  f"{sum(bool(r['topology_kept']) for r in with_out)} / {len(with_out)} | "
                  f"{msg[:160]} |")
     L.append("")
@@ -323,72 +325,129 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
         f.write("\n".join(L) + "\n")
 
 
+def cached_run(cache_dir, key, deadline, run):
+    """run() unless its result is cached (an interrupted report resumes) or the budget is spent."""
+    path = os.path.join(cache_dir, key + ".json")
+    if os.path.exists(path):
+        with open(path) as f:
+            return json.load(f)
+    if deadline and time.time() > deadline:
+        return {"status": "not run", "message": "time budget spent"}
+    r = run()
+    with open(path + ".partial", "w") as f:
+        json.dump(r, f)
+    os.replace(path + ".partial", path)
+    return r
+
+
+def surface_sizes(directory, names):
+    """Triangle counts from the surfaces' .vtp headers (NumberOfPolys), to order the work."""
+    sizes = {}
+    for name in names:
+        with open(os.path.join(directory, name + ".vtp"), "rb") as f:
+            head = f.read(4096).decode("latin-1")
+        found = head.split('NumberOfPolys="', 1)
+        sizes[name] = int(found[1].split('"', 1)[0]) if len(found) > 1 else 0
+    return sizes
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--build", required=True)
     ap.add_argument("--surfaces", required=True)
     ap.add_argument("--out", required=True)
-    ap.add_argument("--quick", action="store_true", help="one level (10%%), no timeout over 60 s")
+    ap.add_argument("--quick", action="store_true", help="one level (10%%), 60 s per run at most")
     ap.add_argument("--scaling", help="directory of the scaling surfaces (scale-*.vtp)")
     ap.add_argument("--render-surface", default="earth",
                     help="surface whose reductions at 10%% are written for render.py")
+    ap.add_argument("--budget-minutes", type=float,
+                    help="start no run after this; the rest is reported as 'not run'")
+    ap.add_argument("--resume", action="store_true",
+                    help="reuse the results of an earlier (interrupted) run in OUT/runs")
     args = ap.parse_args()
 
     tool = os.path.join(args.build, "bench", "report", "ddsimp_report")
-    os.makedirs(args.out, exist_ok=True)
     meshes = os.path.join(args.out, "meshes")
+    cache = os.path.join(args.out, "runs")
+    if not args.resume:
+        shutil.rmtree(cache, ignore_errors=True)
     os.makedirs(meshes, exist_ok=True)
+    os.makedirs(cache, exist_ok=True)
     levels = [GOAL_LEVEL] if args.quick else LEVELS
     timeout = 60 if args.quick else 600
-    files = sorted(f for f in os.listdir(args.surfaces) if f.endswith(".vtp")
-                   and not f.endswith(".partial.vtp") and not f.startswith("scale-"))
     start = time.time()
-    rows = []
-    for f in files:
-        surface = f[:-4]
-        path = os.path.join(args.surfaces, f)
+    deadline = start + 60 * args.budget_minutes if args.budget_minutes else None
+    names = [f[:-4] for f in os.listdir(args.surfaces) if f.endswith(".vtp")
+             and not f.endswith(".partial.vtp") and not f.startswith("scale-")]
+    sizes = surface_sizes(args.surfaces, names)
+    names.sort(key=lambda n: (sizes[n], n))
+
+    def reduce(surface, keep, simplifier, alpha):
+        out_mesh = None
+        if surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0):
+            out_mesh = os.path.join(meshes, f"{surface}-{simplifier}.vtp")
+        key = f"{surface}__{simplifier}__{alpha}__{keep}"
+        r = cached_run(cache, key, deadline,
+                       lambda: run_one(tool, os.path.join(args.surfaces, surface + ".vtp"),
+                                       simplifier, alpha, keep, timeout, out_mesh))
+        print(f"{surface} {keep:g} {simplifier} {alpha}: {r.get('status')} "
+              f"{r.get('triangles_out', '')} {r.get('seconds', 0):.2f}s data "
+              f"{r.get('data_rms', '—')}", file=sys.stderr, flush=True)
+        return row_of(surface, simplifier, alpha, keep, r)
+
+    def scale(path, simplifier):
+        alpha = 0.5 if simplifier in DDSIMP else None
+        runs = []
+        for rep in range(3):
+            key = f"{os.path.basename(path)[:-4]}__{simplifier}__{alpha}__{rep}"
+            r = cached_run(cache, key, deadline,
+                           lambda: run_one(tool, path, simplifier, alpha, GOAL_LEVEL, 420,
+                                           compare=False))
+            runs.append(r)
+            if r.get("status") not in ("ok", "not reached") or r.get("triangles_in", 0) > 200_000:
+                break
+        times = sorted(r["seconds"] for r in runs if "seconds" in r)
+        last = runs[-1]
+        s = {"surface": os.path.basename(path)[:-4], "simplifier": simplifier,
+             "alpha": "" if alpha is None else alpha,
+             "triangles_in": last.get("triangles_in"), "target": last.get("target"),
+             "triangles_out": last.get("triangles_out"), "status": last.get("status"),
+             "message": last.get("message", ""), "repetitions": len(times),
+             "median_seconds": times[len(times) // 2] if times else None,
+             "peak_rss_mb": last["peak_rss_bytes"] / 2**20 if "peak_rss_bytes" in last else None}
+        print(f"scaling {s['surface']} {simplifier}: {s['status']} {s['median_seconds']}",
+              file=sys.stderr, flush=True)
+        return s
+
+    # Most important first, so that a spent budget leaves out the least: every surface at the
+    # goal level, then the scaling, then the other levels.
+    results = {}
+    for surface in names:
+        for simplifier, alpha in configurations():
+            results[(surface, GOAL_LEVEL, simplifier, alpha)] = reduce(surface, GOAL_LEVEL,
+                                                                      simplifier, alpha)
+    scaling = []
+    if args.scaling:
+        files = [f[:-4] for f in os.listdir(args.scaling) if f.startswith("scale-")
+                 and f.endswith(".vtp") and not f.endswith(".partial.vtp")]
+        scale_sizes = surface_sizes(args.scaling, files)
+        for f in sorted(files, key=lambda n: scale_sizes[n]):
+            for simplifier in DDSIMP + PEERS:
+                scaling.append(scale(os.path.join(args.scaling, f + ".vtp"), simplifier))
+    for surface in names:
         for keep in levels:
             for simplifier, alpha in configurations():
-                out_mesh = None
-                if surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0):
-                    out_mesh = os.path.join(meshes, f"{surface}-{simplifier}.vtp")
-                r = run_one(tool, path, simplifier, alpha, keep, timeout, out_mesh)
-                rows.append(row_of(surface, simplifier, alpha, keep, r))
-                print(f"{surface} {keep:g} {label(rows[-1])}: {r.get('status')} "
-                      f"{r.get('triangles_out', '')} {r.get('seconds', 0):.2f}s "
-                      f"data {r.get('data_rms', '—')}", file=sys.stderr, flush=True)
+                if (surface, keep, simplifier, alpha) not in results:
+                    results[(surface, keep, simplifier, alpha)] = reduce(surface, keep,
+                                                                        simplifier, alpha)
+    rows = [results[(s, k, p, a)] for s in names for k in levels for p, a in configurations()]
+
     with open(os.path.join(args.out, "results.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS)
         w.writeheader()
         for r in rows:
             w.writerow({k: ("" if r[k] is None else r[k]) for k in COLUMNS})
-
-    scaling = []
-    if args.scaling:
-        for f in sorted(x for x in os.listdir(args.scaling) if x.startswith("scale-")
-                        and x.endswith(".vtp") and not x.endswith(".partial.vtp")):
-            path = os.path.join(args.scaling, f)
-            for simplifier in DDSIMP + PEERS:
-                alpha = 0.5 if simplifier in DDSIMP else None
-                runs = []
-                for rep in range(3):
-                    r = run_one(tool, path, simplifier, alpha, GOAL_LEVEL, 420, compare=False)
-                    runs.append(r)
-                    if r.get("status") not in ("ok", "not reached") or r["triangles_in"] > 200_000:
-                        break
-                times = sorted(r["seconds"] for r in runs if "seconds" in r)
-                last = runs[-1]
-                scaling.append({
-                    "surface": f[:-4], "simplifier": simplifier,
-                    "alpha": "" if alpha is None else alpha,
-                    "triangles_in": last.get("triangles_in"), "target": last.get("target"),
-                    "triangles_out": last.get("triangles_out"), "status": last.get("status"),
-                    "message": last.get("message", ""), "repetitions": len(times),
-                    "median_seconds": times[len(times) // 2] if times else None,
-                    "peak_rss_mb": last["peak_rss_bytes"] / 2**20 if "peak_rss_bytes" in last
-                    else None})
-                print(f"scaling {f} {simplifier}: {scaling[-1]['status']} "
-                      f"{scaling[-1]['median_seconds']}", file=sys.stderr, flush=True)
+    if scaling:
         with open(os.path.join(args.out, "scaling.csv"), "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=SCALING_COLUMNS)
             w.writeheader()
@@ -396,16 +455,13 @@ def main():
                 w.writerow({k: ("" if s[k] is None else s[k]) for k in SCALING_COLUMNS})
         plot_scaling(scaling, args.out)
 
-    surfaces_by_size = sorted({r["surface"] for r in rows},
-                              key=lambda s: next(r["triangles_in"] or 0 for r in rows
-                                                 if r["surface"] == s))
-    plot_data_error(rows, args.out, surfaces_by_size)
+    plot_data_error(rows, args.out, names)
     goals = check_goals(rows)
     images = []
-    picture = os.path.join(args.out, f"{args.render_surface}-10pct.png")
-    if os.path.exists(picture) or not args.quick:
+    if not args.quick:
+        picture = os.path.join(args.out, f"{args.render_surface}-10pct.png")
         images.append((f"{args.render_surface} at 10%, coloured by its data", picture))
-    write_report(rows, surfaces_by_size, goals, scaling, args.out, args.quick, images, time.time() - start)
+    write_report(rows, names, goals, scaling, args.out, args.quick, images, time.time() - start)
     print(f"report.py: wrote {args.out}/report.md, results.csv", file=sys.stderr)
 
 

@@ -5,12 +5,15 @@
 # scaling.csv, data-error-vs-triangles.png, time-vs-size.png and earth-10pct.png (the surface and
 # its reductions coloured by their data, rendered off-screen under Xvfb).
 #
-# Usage: bench/report/run.sh [--quick] [--out DIR]
+# Usage: bench/report/run.sh [--quick] [--resume] [--out DIR]
 #   --quick   two small surfaces, one level (10%), no scaling and no rendering: the smoke test
+#   --resume  keep the results of an interrupted run (DIR/runs) and do only what is missing
 # Environment:
 #   DDSIMP_REPORT_BUILD_DIR  use ddsimp and ddsimp_report already built there (skip the build)
 #   DDSIMP_SHARED_DATA       the shared data directory (default: ../shared/data beside the repo)
 #   DDSIMP_REPORT_COMMIT     the commit the programs were built from (default: git HEAD)
+#   DDSIMP_REPORT_BUDGET     minutes after which no new run starts (default 40); what was not
+#                            run is reported as "not run", most important runs first
 # Needs: python3-matplotlib; for the images python3-vtk9 and xvfb (scripts/install-deps.sh).
 # The full run takes about 40 minutes on 2 cores.
 set -euo pipefail
@@ -19,15 +22,17 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$(dirname "$here")")
 out="$root/bench/results/report"
 quick=false
+resume=()
 while (($#)); do
     case "$1" in
     --quick) quick=true ;;
+    --resume) resume=(--resume) ;;
     --out)
         out=$2
         shift
         ;;
     *)
-        echo "usage: bench/report/run.sh [--quick] [--out DIR]" >&2
+        echo "usage: bench/report/run.sh [--quick] [--resume] [--out DIR]" >&2
         exit 2
         ;;
     esac
@@ -55,7 +60,8 @@ surfaces="$root/bench/data/report"
 "$here/make-surfaces.sh" "$build" "$surfaces"
 "$here/make-surfaces.sh" "$build" "$surfaces" --scaling
 "$python" "$here/report.py" --build "$build" --surfaces "$surfaces" --out "$out" \
-    --scaling "$surfaces" --render-surface earth
+    --scaling "$surfaces" --render-surface earth --budget-minutes "${DDSIMP_REPORT_BUDGET:-40}" \
+    "${resume[@]}"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$python" "$here/render.py" \
     "$surfaces/earth.vtp" "$out/meshes" "$out/earth-10pct.png"
 echo "run.sh: wrote $out/report.md"
