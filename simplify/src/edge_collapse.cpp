@@ -52,9 +52,7 @@ void Simplifier::update_length(uint32_t h) {
 
 void Simplifier::refresh_edge(uint32_t h) {
     // One heap entry per edge, under its lower half-edge id.
-    uint32_t t = mesh_.twin[h];
-    if (t != kNone && t < h) std::swap(h, t);
-    if (t != kNone) heap_.erase(t);
+    if (const uint32_t t = mesh_.twin[h]; t != kNone && t < h) h = t;
     // Only a lighter key moves now; a key left too light is corrected when it comes up
     // (step_collapse), so the lightest edge is still always the one taken. A stale entry is
     // dropped when it comes up, so only a move or an insertion needs the (dearer) checks.
@@ -242,6 +240,9 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     auto merge = [&](uint32_t e1, uint32_t e2) {
         const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
         const uint8_t l = m.line[e1] | m.line[e2];
+        // The merged edge's heap entry goes under the lower of the two (refresh_around sets it:
+        // the edge is at the new vertex); the higher may still hold its old edge's entry.
+        if (o1 != kNone && o2 != kNone) heap_.erase(std::max(o1, o2));
         if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l;
         if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l;
     };
