@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -49,6 +50,12 @@ std::string describe_client_error(const ClientError& error, const RemoteArgs& ar
 void print_json_line(const nlohmann::json& line) {
     std::printf("%s\n", line.dump().c_str());
     std::fflush(stdout);
+}
+
+double float_decimal(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.7g", value);
+    return std::strtod(text, nullptr);
 }
 
 const char* strategy_name(Strategy strategy) {

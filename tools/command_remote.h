@@ -36,6 +36,10 @@ template <class F> int with_server_errors(const RemoteArgs& args, F&& body);
 // Prints one JSON object as one line on stdout, flushed (readers follow it as it happens).
 void print_json_line(const nlohmann::json& line);
 
+// A value the protocol carried as a float (alpha, keep), as the decimal it was meant to be
+// (0.2f prints as 0.2, not 0.20000000298023224).
+double float_decimal(double value);
+
 // Strategy names as the command line spells them ("edge", "vertex").
 const char* strategy_name(Strategy strategy);
 

@@ -35,8 +35,8 @@ nlohmann::json state_json(const SessionState& s) {
             {"members", members},
             {"view",
              {{"surface", s.view.surface},
-              {"alpha", s.view.alpha},
-              {"keep", s.view.keep},
+              {"alpha", float_decimal(s.view.alpha)},
+              {"keep", float_decimal(s.view.keep)},
               {"field", s.view.field},
               {"strategy", strategy_name(s.view.strategy)}}}};
 }
@@ -78,7 +78,7 @@ int run_watch(const WatchArgs& args) {
                 io::write_surface(e->mesh.mesh, file);
                 print_json_line({{"event", "mesh"},
                                  {"session", e->mesh.session},
-                                 {"keep", e->mesh.keep},
+                                 {"keep", float_decimal(e->mesh.keep)},
                                  {"triangles", e->mesh.mesh.triangle_count()},
                                  {"vertices", e->mesh.mesh.vertex_count()},
                                  {"file", file},

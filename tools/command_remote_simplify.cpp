@@ -131,10 +131,13 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
                 break;
             }
             const double seconds = seconds_since(start);
-            const std::string file = level_file(args.output, level->keep);
+            // As asked, not as the float the protocol carried back.
+            const double keep =
+                level->index < args.keep.size() ? args.keep[level->index] : level->keep;
+            const std::string file = level_file(args.output, keep);
             const Surface mesh = without_unused_vertices(level->mesh);
             io::write_surface(mesh, file);
-            print_json_line({{"keep", level->keep},
+            print_json_line({{"keep", keep},
                              {"triangles", mesh.triangle_count()},
                              {"vertices", mesh.vertex_count()},
                              {"file", file},
