@@ -2,6 +2,7 @@
 // topology, fields, same bytes twice, data error against the single-process result, and errors.
 #include "compare.h"
 #include "isosurface.h"
+#include "pieces.h"
 #include "surface_io.h"
 #include "test_surfaces.h"
 
@@ -200,6 +201,36 @@ TEST(OneRank, SameBytesAsTheLibrary) {
     EXPECT_EQ(read_file(out), read_file(expected));
 }
 
+// The carotid isosurface cut into 4 files (each with its copies of the border vertices), as a
+// simulation writes it one file per rank; written once.
+std::string carotid_pieces() {
+    static const std::string pattern = [] {
+        const Surface& s = carotid().repaired;
+        const auto pieces = mpi::split_surface(s, mpi::bisect_triangles(s, 4), 4);
+        for (size_t r = 0; r < pieces.size(); ++r)
+            io::write_surface(pieces[r].surface,
+                              (scratch() / ("part-" + std::to_string(r) + ".vtp")).string());
+        return (scratch() / "part-{rank}.vtp").string();
+    }();
+    return pattern;
+}
+
+TEST(Pieces, OneFilePerRank) {
+    if (!fs::exists(shared("volumes/carotid.vtk"))) GTEST_SKIP() << "no shared data";
+    const std::string out = (scratch() / "from_pieces.vtp").string();
+    const MpiRun r =
+        run_mpi(4, "simplify '" + carotid_pieces() + "' --pieces -o " + out + " --keep 0.2 --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json report = nlohmann::json::parse(r.out);
+    const Surface& in = carotid().repaired;
+    const Surface result = io::read_surface(out);
+    EXPECT_TRUE(report["target_reached"].get<bool>()) << report.dump();
+    EXPECT_EQ(report["triangles_in"].get<size_t>(), in.triangle_count());
+    EXPECT_LE(result.triangle_count(), size_t(0.2 * double(in.triangle_count())));
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(result)));
+    EXPECT_TRUE(fields_carried(in, result));
+}
+
 // Every failure: exit status, one "ddsimp-mpi:" line naming the problem, and no rank left behind
 // (mpirun returns).
 void expect_failure(const MpiRun& r, int status, const std::string& says) {
@@ -235,6 +266,27 @@ TEST(Errors, UnwritableOutput) {
     const std::string in = shared("surfaces/earth.vtp");
     if (!fs::exists(in)) GTEST_SKIP() << "no shared data";
     expect_failure(run_mpi(4, "simplify " + in + " -o /nonexistent/dir/out.vtp"), 1, "out.vtp");
+}
+
+// Rank 2's file is broken: rank 0 reports it, every rank stops.
+TEST(Errors, BadPieceOnOneRank) {
+    const fs::path dir = scratch() / "broken_pieces";
+    fs::create_directories(dir);
+    for (int r = 0; r < 4; ++r) {
+        const std::string file = (dir / ("p-" + std::to_string(r) + ".vtk")).string();
+        if (r == 2)
+            std::ofstream(file) << "# vtk DataFile Version 3.0\nbroken\nASCII\nDATASET POLYDATA\n";
+        else
+            io::write_surface(with_test_fields(grid(8, 8)), file);
+    }
+    const MpiRun r = run_mpi(4, "simplify '" + (dir / "p-{rank}.vtk").string() + "' --pieces -o " +
+                                    (dir / "out.vtp").string());
+    expect_failure(r, 1, "rank 2: ");
+    EXPECT_NE(r.err.find("p-2.vtk"), std::string::npos) << r.err;
+}
+
+TEST(Errors, PiecesNeedARankPattern) {
+    expect_failure(run_mpi(2, "simplify in.vtp --pieces -o out.vtp"), 2, "{rank}");
 }
 
 TEST(Errors, BadOptionIsAUsageError) {

@@ -78,6 +78,34 @@ TEST(Stitch, UntouchedPiecesGiveTheInputBack) {
     EXPECT_EQ(canonical_triangles(stitched), canonical_triangles(s));
 }
 
+// Pieces written one file per rank (each with its copy of the border vertices) weld back into
+// the surface they were cut from.
+TEST(Weld, FilesPerRankGiveTheSurfaceBack) {
+    const Surface s = with_test_fields(torus(24, 12));
+    std::vector<Surface> files;
+    for (const mpi::Piece& p : mpi::split_surface(s, mpi::bisect_triangles(s, 4), 4))
+        files.push_back(p.surface);
+    const Surface welded = mpi::weld_pieces(files);
+    EXPECT_EQ(welded.vertex_count(), s.vertex_count());
+    EXPECT_EQ(canonical_triangles(welded), canonical_triangles(s));
+    EXPECT_TRUE(topology_kept(analyze_topology(s), analyze_topology(welded)));
+}
+
+// Only boundary vertices weld: two coincident vertices inside one piece stay apart, and so do an
+// interior vertex of one piece and a boundary vertex of another at the same place.
+TEST(Weld, InteriorVerticesStayApart) {
+    Surface a = fan(6); // centre (0,0,0) inside, rim on the boundary
+    Surface b = fan(6); // the same place: every rim vertex welds, the centre does not
+    const Surface welded = mpi::weld_pieces({a, b});
+    EXPECT_EQ(welded.vertex_count(), 7u + 1u); // 6 shared rim vertices, 2 centres
+    EXPECT_EQ(welded.triangle_count(), 12u);
+}
+
+TEST(Weld, DifferentFieldsAreAnError) {
+    Surface a = with_test_fields(square()), b = square();
+    EXPECT_THROW(mpi::weld_pieces({a, b}), std::runtime_error);
+}
+
 struct Case {
     const char* name;
     Surface (*make)();

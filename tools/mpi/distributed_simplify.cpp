@@ -57,7 +57,6 @@ std::string current_error(const std::string& input) {
 // Rank 0's part of the set-up: the validated surface and its pieces.
 struct Plan {
     Surface whole;
-    double read_seconds = 0;
     RepairReport repairs;
     size_t target = 0;
     bool split = false;
@@ -65,13 +64,9 @@ struct Plan {
     std::vector<Piece> pieces;
 };
 
-Plan make_plan(const cli::SimplifyArgs& args, const Options& options, int ranks) {
+Plan make_plan(Surface whole, const Options& options, int ranks) {
     Plan plan;
-    io::check_output_path(args.output);
-    const auto start = Clock::now();
-    plan.whole = io::read_surface(args.input);
-    plan.read_seconds = cli::seconds_since(start);
-    cli::require_fields(plan.whole, args.fields, args.input);
+    plan.whole = std::move(whole);
     plan.repairs = validate(plan.whole);
     plan.target = target_for(options, plan.whole.triangle_count());
     if (ranks == 1) {
@@ -87,6 +82,42 @@ Plan make_plan(const cli::SimplifyArgs& args, const Options& options, int ranks)
         split_surface(plan.whole, bisect_triangles(plan.whole, uint32_t(ranks)), uint32_t(ranks));
     plan.split = true;
     return plan;
+}
+
+// Collective: the input on rank 0 (empty elsewhere). Rank 0 reads IN, or with `pieces` every rank
+// reads its own file (IN with "{rank}" replaced by its rank) and rank 0 welds them. Throws
+// io::IoError on rank 0 for an error on any rank, after every rank has agreed to stop; the other
+// ranks throw RankStopped.
+Surface read_input(const cli::SimplifyArgs& args, bool pieces, int rank, int ranks) {
+    std::string message;
+    bool ok = true;
+    Surface surface;
+    std::string path = args.input;
+    if (pieces) path.replace(path.find(kRankPattern), kRankPattern.size(), std::to_string(rank));
+    if (pieces || rank == 0) try {
+            if (rank == 0) io::check_output_path(args.output);
+            surface = io::read_surface(path);
+            cli::require_fields(surface, args.fields, path);
+        } catch (...) {
+            ok = false, message = current_error(path);
+        }
+    if (!all_ok(ok, message)) {
+        if (rank == 0) throw io::IoError(message);
+        throw RankStopped();
+    }
+    if (!pieces) return surface;
+    if (rank != 0) {
+        send_surface(surface, 0);
+        return {};
+    }
+    std::vector<Surface> all(static_cast<size_t>(ranks));
+    all[0] = std::move(surface);
+    for (int r = 1; r < ranks; ++r) all[size_t(r)] = recv_surface(r);
+    try {
+        return weld_pieces(all);
+    } catch (const std::runtime_error& e) {
+        throw io::IoError(args.input + ": " + e.what());
+    }
 }
 
 // The piece's triangle target: its share of the global target, times the slack.
@@ -145,18 +176,20 @@ void report_run(const cli::SimplifyArgs& args, const Options& options, const Res
 
 } // namespace
 
-int distributed_simplify(const cli::SimplifyArgs& args, const CLI::App& command) {
+int distributed_simplify(const cli::SimplifyArgs& args, const CLI::App& command, bool pieces) {
     int rank = 0, ranks = 1;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &ranks);
     const Options options = cli::simplify_options(args, command); // same on every rank
 
     const auto start = Clock::now();
+    const Surface whole = read_input(args, pieces, rank, ranks);
+    const double read_seconds = cli::seconds_since(start);
     Plan plan;
     std::string message;
     bool ok = true;
     if (rank == 0) try {
-            plan = make_plan(args, options, ranks);
+            plan = make_plan(whole, options, ranks);
         } catch (...) {
             ok = false, message = current_error(args.input);
         }
@@ -247,7 +280,7 @@ int distributed_simplify(const cli::SimplifyArgs& args, const CLI::App& command)
         result.repairs = plan.repairs;
         for (const PieceReport& p : reports) result.operations += p.operations;
     }
-    const double seconds = cli::seconds_since(start) - plan.read_seconds; // as ddsimp counts
+    const double seconds = cli::seconds_since(start) - read_seconds; // as ddsimp counts
     io::write_surface(result.surface, args.output);
     report_run(args, options, result, seconds, ranks, plan, reports, stitched, final_seconds);
     return cli::kExitOk;

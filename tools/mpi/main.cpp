@@ -1,10 +1,12 @@
 // ddsimp-mpi: `ddsimp simplify` across Open MPI ranks, for surfaces beyond one node.
 //
 //     mpirun -np N ddsimp-mpi simplify IN -o OUT [the options of ddsimp simplify] [--json]
+//     mpirun -np N ddsimp-mpi simplify part-{rank}.vtp --pieces -o OUT ...   (one file per rank)
 //
-// Rank 0 reads IN and writes OUT; see distributed_simplify.h for what the ranks do. Exit status
-// as for ddsimp: 0 success, 1 input or I/O error, 2 usage error; every error is one line on
-// stderr from rank 0 starting with "ddsimp-mpi: ", and every rank stops (no rank is left waiting).
+// Rank 0 reads IN (with --pieces every rank its own file) and writes OUT; see
+// distributed_simplify.h for what the ranks do. Exit status as for ddsimp: 0 success, 1 input or
+// I/O error, 2 usage error; every error is one line on stderr from rank 0 starting with
+// "ddsimp-mpi: ", and every rank stops (no rank is left waiting).
 #include "cli_support.h"
 #include "distributed_simplify.h"
 #include "simplify_args.h"
@@ -39,6 +41,11 @@ int run(int argc, char** argv) {
         "simplify",
         "Reduce a surface, keeping its topology: one piece per rank, then a final pass");
     add_simplify_options(*simplify, args);
+    bool pieces = false;
+    simplify->add_flag("--pieces", pieces,
+                       "IN names one file per rank, with {rank} for the rank number (e.g. "
+                       "part-{rank}.vtp): each rank reads its own; border vertices in several "
+                       "files are welded where they coincide exactly");
 
     // The command line is the same on every rank, so every rank reaches the same verdict.
     if (argc > 1 && argv[1][0] != '-' && !simplify->check_name(argv[1]))
@@ -52,8 +59,13 @@ int run(int argc, char** argv) {
         return fail(kExitUsageError, e.what() + std::string(" (see ddsimp-mpi simplify --help)"));
     }
 
+    if (pieces && args.input.find(ddsimp::mpi::kRankPattern) == std::string::npos)
+        return fail(kExitUsageError, "--pieces: the input '" + args.input +
+                                         "' has no {rank} to replace by the rank number");
     try {
-        return ddsimp::mpi::distributed_simplify(args, *simplify);
+        return ddsimp::mpi::distributed_simplify(args, *simplify, pieces);
+    } catch (const ddsimp::mpi::RankStopped&) {
+        return kExitInputError; // rank 0 reports the error
     } catch (const UsageError& e) {
         return fail(kExitUsageError, e.what());
     } catch (const ddsimp::io::IoError& e) {

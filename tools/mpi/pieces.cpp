@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -141,6 +142,74 @@ ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record) {
         if (piece.border[v] != kNoId && index[v] == kNoId)
             throw std::runtime_error("border vertex " + std::to_string(piece.border[v]) +
                                      " was lost in its piece");
+    return out;
+}
+
+Surface weld_pieces(const std::vector<Surface>& pieces) {
+    Surface out;
+    if (pieces.empty()) return out;
+    for (const Field& f : pieces.front().fields) out.fields.push_back({f.name, f.components, {}});
+    using Key = std::array<uint32_t, 3>; // a position's bits
+    struct KeyHash {
+        size_t operator()(const Key& k) const {
+            return (size_t(k[0]) * 0x9e3779b97f4a7c15ull) ^ (size_t(k[1]) * 0xc2b2ae3d27d4eb4full) ^
+                   size_t(k[2]);
+        }
+    };
+    std::unordered_map<Key, uint32_t, KeyHash> boundary; // earlier pieces' boundary vertices
+    for (size_t p = 0; p < pieces.size(); ++p) {
+        const Surface& s = pieces[p];
+        if (s.fields.size() != out.fields.size())
+            throw std::runtime_error("piece " + std::to_string(p) + " has " +
+                                     std::to_string(s.fields.size()) + " fields, piece 0 has " +
+                                     std::to_string(out.fields.size()));
+        for (size_t i = 0; i < s.fields.size(); ++i)
+            if (s.fields[i].name != out.fields[i].name ||
+                s.fields[i].components != out.fields[i].components)
+                throw std::runtime_error("piece " + std::to_string(p) + " has field '" +
+                                         s.fields[i].name + "' where piece 0 has '" +
+                                         out.fields[i].name + "'");
+        // Open-boundary vertices: on an edge that only one triangle of the piece uses.
+        std::vector<uint64_t> edges;
+        edges.reserve(s.triangles.size());
+        for (size_t t = 0; t < s.triangles.size(); t += 3)
+            for (int c = 0; c < 3; ++c) {
+                const uint64_t a = s.triangles[t + size_t(c)],
+                               b = s.triangles[t + size_t(c + 1) % 3];
+                edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+            }
+        std::sort(edges.begin(), edges.end());
+        std::vector<uint8_t> on_boundary(s.vertex_count(), 0);
+        for (size_t i = 0; i < edges.size();) {
+            size_t j = i;
+            while (j < edges.size() && edges[j] == edges[i]) ++j;
+            if (j - i == 1) on_boundary[edges[i] >> 32] = on_boundary[edges[i] & 0xffffffffu] = 1;
+            i = j;
+        }
+        std::vector<uint32_t> index(s.vertex_count());
+        std::vector<std::pair<Key, uint32_t>> mine; // this piece's boundary, for later pieces
+        for (size_t v = 0; v < s.vertex_count(); ++v) {
+            Key key;
+            std::memcpy(key.data(), &s.positions[3 * v], sizeof key);
+            if (on_boundary[v]) {
+                const auto it = boundary.find(key);
+                if (it != boundary.end()) {
+                    index[v] = it->second;
+                    continue;
+                }
+            }
+            index[v] = uint32_t(out.vertex_count());
+            if (on_boundary[v]) mine.emplace_back(key, index[v]);
+            out.positions.insert(out.positions.end(), &s.positions[3 * v], &s.positions[3 * v] + 3);
+            for (size_t i = 0; i < s.fields.size(); ++i) {
+                const size_t nc = size_t(s.fields[i].components);
+                out.fields[i].values.insert(out.fields[i].values.end(), &s.fields[i].values[v * nc],
+                                            &s.fields[i].values[v * nc] + nc);
+            }
+        }
+        for (uint32_t c : s.triangles) out.triangles.push_back(index[c]);
+        boundary.insert(mine.begin(), mine.end()); // the first copy of a position wins
+    }
     return out;
 }
 

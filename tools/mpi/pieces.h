@@ -47,6 +47,13 @@ struct ReducedPiece {
 // not by its coordinates (which need not be unique). Throws std::runtime_error if one is gone.
 ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record);
 
+// One surface from pieces that a simulation wrote one per rank, with their shared border vertices
+// in each file: a vertex on a piece's open boundary that lies exactly (bit for bit) where a
+// boundary vertex of an earlier piece lies becomes that vertex (with the earlier piece's data).
+// Other coincident vertices within one piece stay apart. Throws std::runtime_error if the pieces'
+// fields differ in name or components.
+Surface weld_pieces(const std::vector<Surface>& pieces);
+
 // One surface from the pieces, in piece order: every vertex once, a border vertex shared by
 // several pieces welded into one (the first piece's copy). Every piece must have the same fields.
 Surface stitch(const std::vector<ReducedPiece>& pieces);
