@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# shellcheck-all.sh ROOT: shellcheck on every shell script under ROOT's deploy/, scripts/ and .ci/
+# Usage: shellcheck-all.sh ROOT. Lints every shell script under ROOT's deploy/, scripts/, .ci/
 # (by extension .sh/.bash/.sbatch, or by a sh/bash shebang), found when the test runs.
 set -euo pipefail
 root=$1
