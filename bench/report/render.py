@@ -15,7 +15,7 @@ import sys
 import vtk
 
 ORDER = ["ddsimp-edge", "ddsimp-vertex", "meshopt", "vtk-quadric", "vtk-decimatepro", "openmesh"]
-TITLES = {"ddsimp-edge": "ddsimp edge, α=0", "ddsimp-vertex": "ddsimp vertex, α=0",
+TITLES = {"ddsimp-edge": "ddsimp edge, alpha=0", "ddsimp-vertex": "ddsimp vertex, alpha=0",
           "meshopt": "meshopt_simplify", "vtk-quadric": "vtkQuadricDecimation",
           "vtk-decimatepro": "vtkDecimatePro", "openmesh": "OpenMesh Decimater"}
 
@@ -33,7 +33,7 @@ def main():
     ap.add_argument("mesh_dir")
     ap.add_argument("out")
     ap.add_argument("--field", help="point field to colour by (default: the first)")
-    ap.add_argument("--size", nargs=2, type=int, default=[1120, 560])
+    ap.add_argument("--size", nargs=2, type=int, default=[960, 480])
     args = ap.parse_args()
 
     surface = os.path.basename(args.original)[:-4]
@@ -52,7 +52,7 @@ def main():
             poly = read(path)
             panels.append((f"{TITLES[name]}, {poly.GetNumberOfPolys():,}", poly))
         else:
-            panels.append((f"{TITLES[name]}: no output", None))
+            panels.append((f"{TITLES[name]}: no output (see report)", None))
 
     lut = vtk.vtkLookupTable()
     lut.SetHueRange(0.667, 0.0)

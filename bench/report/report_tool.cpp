@@ -24,6 +24,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <vtkCleanPolyData.h>
 #include <vtkCutter.h>
 #include <vtkDataSet.h>
 #include <vtkPlane.h>
@@ -314,9 +315,14 @@ int run_cut(const CutArgs& args) {
     cutter->SetInputData(volume);
     cutter->SetCutFunction(plane);
     cutter->GenerateTrianglesOn();
-    cutter->Update();
+    // vtkCutter cuts an unstructured grid cell by cell: merge the points the cells share.
+    auto merge = vtkSmartPointer<vtkCleanPolyData>::New();
+    merge->SetInputConnection(cutter->GetOutputPort());
+    merge->PointMergingOn();
+    merge->SetTolerance(0.0);
+    merge->Update();
     Surface surface =
-        ddsimp::io::surface_from_dataset(cutter->GetOutput(), args.volume + " cut", args.fields);
+        ddsimp::io::surface_from_dataset(merge->GetOutput(), args.volume + " cut", args.fields);
     repair_and_write(surface, args.output);
     return 0;
 }
