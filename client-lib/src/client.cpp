@@ -347,8 +347,11 @@ struct Client::Impl {
             const bool eof = ec == asio::error::eof || ec == ssl::error::stream_truncated;
             const std::string text = handshake ? "cannot connect to " + where() + ": "
                                                : "the connection to " + where() + " was lost: ";
+            // A TLS server hangs up on a plain Hello: say so.
+            const std::string hint = handshake && !tls ? " (is it a TLS server?)" : "";
             shut(ClientError(ErrorCode::Connection,
-                             text + (eof ? "the server closed the connection" : ec.message())));
+                             text +
+                                 (eof ? "the server closed the connection" + hint : ec.message())));
             return;
         }
         const uint64_t gen = generation;

@@ -9,6 +9,8 @@
 #include "ddsimp/protocol/content_hash.h"
 
 #include <nlohmann/json.hpp>
+#include <openssl/pem.h>
+#include <openssl/x509v3.h>
 
 #include <fstream>
 #include <sstream>
@@ -119,6 +121,29 @@ TEST_P(ClientRoundTrip, EveryLevelEqualsTheOfflineResultCoarsestFirst) {
         }
         EXPECT_EQ(level.refinement, mode.progressive && i != 1) << i;
     }
+}
+
+TEST_F(ClientServer, OneClientServesRequestsFromSeveralThreads) {
+    const Surface input = test_surface();
+    Client client;
+    client.connect(local(server_.port));
+    const std::string surface = client.upload(input).surface;
+    const std::vector<double> alphas{0, 0.25, 0.5, 1};
+    std::vector<Level> got(alphas.size());
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < alphas.size(); ++t)
+        threads.emplace_back([&, t] {
+            LevelRequest request;
+            request.surface = surface;
+            request.alpha = alphas[t];
+            request.keep = {0.25};
+            got[t] = client.request_levels(request).at(0);
+        });
+    for (std::thread& t : threads) t.join();
+    for (size_t t = 0; t < alphas.size(); ++t)
+        EXPECT_EQ(test::triangles_by_content(got[t].mesh),
+                  test::triangles_by_content(offline(input, alphas[t], 0.25)))
+            << "alpha " << alphas[t];
 }
 
 TEST_F(ClientServer, TheSameSurfaceTwiceIsStoredOnce) {
@@ -251,6 +276,81 @@ TEST(ClientServerToken, AWrongTokenIsRefusedWithTheServersMessage) {
     client.connect(local(server.port, "s3cret"));
     EXPECT_TRUE(client.connected());
     EXPECT_TRUE(client.list_surfaces().empty());
+    server.stop();
+    std::filesystem::remove_all(dir);
+}
+
+// A self-signed certificate for localhost and 127.0.0.1 and its key, as PEM files.
+void write_self_signed(const std::filesystem::path& cert, const std::filesystem::path& key,
+                       const char* common_name) {
+    EVP_PKEY* pkey = EVP_EC_gen("P-256");
+    ASSERT_TRUE(pkey);
+    X509* x = X509_new();
+    X509_set_version(x, 2);
+    ASN1_INTEGER_set(X509_get_serialNumber(x), 1);
+    X509_gmtime_adj(X509_getm_notBefore(x), -60);
+    X509_gmtime_adj(X509_getm_notAfter(x), 86400);
+    X509_set_pubkey(x, pkey);
+    X509_NAME* name = X509_get_subject_name(x);
+    X509_NAME_add_entry_by_txt(name, "CN", MBSTRING_ASC,
+                               reinterpret_cast<const unsigned char*>(common_name), -1, -1, 0);
+    X509_set_issuer_name(x, name);
+    X509V3_CTX ctx;
+    X509V3_set_ctx_nodb(&ctx);
+    X509V3_set_ctx(&ctx, x, x, nullptr, nullptr, 0);
+    for (auto [nid, value] : {std::pair{NID_subject_alt_name, "DNS:localhost,IP:127.0.0.1"},
+                              std::pair{NID_basic_constraints, "critical,CA:TRUE"}}) {
+        X509_EXTENSION* ext = X509V3_EXT_conf_nid(nullptr, &ctx, nid, value);
+        X509_add_ext(x, ext, -1);
+        X509_EXTENSION_free(ext);
+    }
+    X509_sign(x, pkey, EVP_sha256());
+    FILE* f = std::fopen(cert.c_str(), "w");
+    PEM_write_X509(f, x);
+    std::fclose(f);
+    f = std::fopen(key.c_str(), "w");
+    PEM_write_PrivateKey(f, pkey, nullptr, nullptr, 0, nullptr, nullptr);
+    std::fclose(f);
+    X509_free(x);
+    EVP_PKEY_free(pkey);
+}
+
+TEST(ClientServerTls, CertificatesAreCheckedUnlessInsecureIsAsked) {
+    const auto dir = test::temp_dir("client-tls");
+    write_self_signed(dir / "cert.pem", dir / "key.pem", "ddsimp test");
+    write_self_signed(dir / "other.pem", dir / "other-key.pem", "someone else");
+    ServerProcess server(dir / "data", {"--sample", "", "--tls-cert", (dir / "cert.pem").string(),
+                                        "--tls-key", (dir / "key.pem").string()});
+    ConnectOptions o = local(server.port);
+    o.tls = true;
+    auto refusal = [&](const ConnectOptions& options) {
+        Client client;
+        try {
+            client.connect(options);
+        } catch (const ClientError& e) {
+            EXPECT_EQ(e.code(), ErrorCode::Connection);
+            return std::string(e.what());
+        }
+        return std::string("connected");
+    };
+
+    o.ca_file = (dir / "other.pem").string(); // not the server's
+    EXPECT_NE(refusal(o).find("certificate verify failed"), std::string::npos) << refusal(o);
+    for (const char* host : {"127.0.0.1", "localhost"}) {
+        o.host = host;
+        o.ca_file = (dir / "cert.pem").string(); // the server's own: trusted, names match
+        Client client;
+        client.connect(o);
+        EXPECT_TRUE(client.list_surfaces().empty()) << host;
+    }
+    o.ca_file.clear();
+    o.tls_insecure = true; // anything goes
+    Client insecure;
+    insecure.connect(o);
+    EXPECT_TRUE(insecure.connected());
+
+    ConnectOptions plain = local(server.port);
+    EXPECT_NE(refusal(plain), "connected"); // no TLS to a TLS server
     server.stop();
     std::filesystem::remove_all(dir);
 }
