@@ -285,6 +285,19 @@ TEST(Errors, BadPieceOnOneRank) {
     EXPECT_NE(r.err.find("p-2.vtk"), std::string::npos) << r.err;
 }
 
+// Every file reads, but they do not fit together: rank 0 finds out after the others are done
+// reading, and still every rank stops.
+TEST(Errors, PiecesWithDifferentFields) {
+    const fs::path dir = scratch() / "mismatched_pieces";
+    fs::create_directories(dir);
+    for (int r = 0; r < 4; ++r)
+        io::write_surface(r == 2 ? grid(8, 8) : with_test_fields(grid(8, 8)),
+                          (dir / ("q-" + std::to_string(r) + ".vtp")).string());
+    expect_failure(run_mpi(4, "simplify '" + (dir / "q-{rank}.vtp").string() + "' --pieces -o " +
+                                  (dir / "out.vtp").string()),
+                   1, "piece 2 has 0 fields");
+}
+
 TEST(Errors, PiecesNeedARankPattern) {
     expect_failure(run_mpi(2, "simplify in.vtp --pieces -o out.vtp"), 2, "{rank}");
 }

@@ -84,11 +84,11 @@ Plan make_plan(Surface whole, const Options& options, int ranks) {
     return plan;
 }
 
-// Collective: the input on rank 0 (empty elsewhere). Rank 0 reads IN, or with `pieces` every rank
-// reads its own file (IN with "{rank}" replaced by its rank) and rank 0 welds them. Throws
-// io::IoError on rank 0 for an error on any rank, after every rank has agreed to stop; the other
-// ranks throw RankStopped.
-Surface read_input(const cli::SimplifyArgs& args, bool pieces, int rank, int ranks) {
+// Collective: what was read, on rank 0 (nothing elsewhere): IN, or with `pieces` every rank's own
+// file (IN with "{rank}" replaced by its rank), in rank order, to be welded. Throws io::IoError on
+// rank 0 for an error on any rank, after every rank has agreed to stop; the others throw
+// RankStopped.
+std::vector<Surface> read_input(const cli::SimplifyArgs& args, bool pieces, int rank, int ranks) {
     std::string message;
     bool ok = true;
     Surface surface;
@@ -105,16 +105,21 @@ Surface read_input(const cli::SimplifyArgs& args, bool pieces, int rank, int ran
         if (rank == 0) throw io::IoError(message);
         throw RankStopped();
     }
-    if (!pieces) return surface;
     if (rank != 0) {
-        send_surface(surface, 0);
+        if (pieces) send_surface(surface, 0);
         return {};
     }
-    std::vector<Surface> all(static_cast<size_t>(ranks));
-    all[0] = std::move(surface);
-    for (int r = 1; r < ranks; ++r) all[size_t(r)] = recv_surface(r);
+    std::vector<Surface> read(pieces ? static_cast<size_t>(ranks) : 1);
+    read[0] = std::move(surface);
+    for (int r = 1; r < int(read.size()); ++r) read[size_t(r)] = recv_surface(r);
+    return read;
+}
+
+// Rank 0: the surface to simplify, from what read_input read.
+Surface whole_input(const cli::SimplifyArgs& args, bool pieces, std::vector<Surface>& read) {
+    if (!pieces) return std::move(read[0]);
     try {
-        return weld_pieces(all);
+        return weld_pieces(read);
     } catch (const std::runtime_error& e) {
         throw io::IoError(args.input + ": " + e.what());
     }
@@ -183,16 +188,17 @@ int distributed_simplify(const cli::SimplifyArgs& args, const CLI::App& command,
     const Options options = cli::simplify_options(args, command); // same on every rank
 
     const auto start = Clock::now();
-    const Surface whole = read_input(args, pieces, rank, ranks);
+    std::vector<Surface> read = read_input(args, pieces, rank, ranks);
     const double read_seconds = cli::seconds_since(start);
     Plan plan;
     std::string message;
     bool ok = true;
     if (rank == 0) try {
-            plan = make_plan(whole, options, ranks);
+            plan = make_plan(whole_input(args, pieces, read), options, ranks);
         } catch (...) {
             ok = false, message = current_error(args.input);
         }
+    read = {};
     if (!all_ok(ok, message)) {
         if (rank == 0) throw io::IoError(message);
         return cli::kExitInputError;
