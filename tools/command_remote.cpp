@@ -47,6 +47,14 @@ std::string describe_client_error(const ClientError& error, const RemoteArgs& ar
     return args.server + " refused: " + error.what() + " (" + error_code_name(error.code()) + ")";
 }
 
+void make_output_directory(const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (!std::filesystem::is_directory(dir))
+        throw io::IoError("cannot create the output directory " + dir +
+                          (ec ? ": " + ec.message() : ""));
+}
+
 void print_json_line(const nlohmann::json& line) {
     std::printf("%s\n", line.dump().c_str());
     std::fflush(stdout);

@@ -33,6 +33,9 @@ void connect_remote(Client& client, const RemoteArgs& args);
 // Runs `body`, turning a ClientError into the io::IoError the command line reports (exit 1).
 template <class F> int with_server_errors(const RemoteArgs& args, F&& body);
 
+// Creates `dir` (and its parents) unless it exists; throws io::IoError if it cannot.
+void make_output_directory(const std::string& dir);
+
 // Prints one JSON object as one line on stdout, flushed (readers follow it as it happens).
 void print_json_line(const nlohmann::json& line);
 

@@ -49,11 +49,7 @@ struct WatchArgs {
 };
 
 int run_watch(const WatchArgs& args) {
-    std::error_code ec;
-    std::filesystem::create_directories(args.output, ec);
-    if (!std::filesystem::is_directory(args.output))
-        throw io::IoError("cannot create the output directory " + args.output +
-                          (ec ? ": " + ec.message() : ""));
+    make_output_directory(args.output);
     return with_server_errors(args.remote, [&] {
         Client client;
         connect_remote(client, args.remote);

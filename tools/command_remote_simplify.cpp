@@ -88,11 +88,7 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
     for (double k : args.keep)
         if (!(k > 0 && k <= 1))
             throw UsageError("--keep " + std::to_string(k) + " is outside (0, 1]");
-    std::error_code ec;
-    std::filesystem::create_directories(args.output, ec);
-    if (!std::filesystem::is_directory(args.output))
-        throw io::IoError("cannot create the output directory " + args.output +
-                          (ec ? ": " + ec.message() : ""));
+    make_output_directory(args.output);
     io::check_output_path(level_file(args.output, args.keep.front()));
     Surface input;
     if (!args.input.empty()) input = io::read_surface(args.input);

@@ -782,7 +782,13 @@ uint64_t Client::max_surface_triangles() const {
 std::future<UploadResult> Client::async_upload(const Surface& surface, const std::string& name,
                                                const std::string& session) {
     // Encoding happens on the caller's thread, so the network thread stays free.
-    protocol::EncodedBlob blob = protocol::encode_mesh(surface, v1::RAW);
+    protocol::EncodedBlob blob;
+    try {
+        blob = protocol::encode_mesh(surface, v1::RAW);
+    } catch (const protocol::BlobError& e) {
+        throw ClientError(ErrorCode::InvalidArgument,
+                          std::string("the surface cannot be sent: ") + e.what());
+    }
     const uint64_t id = impl_->take_id();
     v1::UploadBegin begin;
     begin.set_upload_id(id);
