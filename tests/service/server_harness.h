@@ -1,0 +1,250 @@
+// Starting a real ddsimp-server on loopback for the integration tests, and a small blocking
+// protocol client that speaks frames directly (so the tests do not depend on the client
+// library they may be testing).
+#pragma once
+
+#include "ddsimp/protocol/frame.h"
+#include "ddsimp/protocol/mesh_codec.h"
+
+#include <boost/asio.hpp>
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <string>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+namespace ddsimp::test {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+
+inline uint16_t free_port() {
+    asio::io_context io;
+    tcp::acceptor a(io, tcp::endpoint(asio::ip::make_address("127.0.0.1"), 0));
+    return a.local_endpoint().port();
+}
+
+inline std::filesystem::path temp_dir(const std::string& name) {
+    auto dir = std::filesystem::temp_directory_path() /
+               ("ddsimp-test-" + name + "-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+// A ddsimp-server child process.
+class ServerProcess {
+public:
+    ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {})
+        : data_dir_(std::move(data_dir)), extra_(std::move(extra)) {
+        start();
+    }
+    ~ServerProcess() { stop(SIGKILL); }
+
+    void start() {
+        port = free_port();
+        http_port = free_port();
+        std::vector<std::string> args{DDSIMP_SERVER_BINARY, "--port", std::to_string(port),
+                                      "--http-port", std::to_string(http_port), "--data-dir",
+                                      data_dir_.string(), "--log-level", "warn"};
+        args.insert(args.end(), extra_.begin(), extra_.end());
+        pid_ = ::fork();
+        if (pid_ == 0) {
+            std::vector<char*> argv;
+            for (auto& a : args) argv.push_back(a.data());
+            argv.push_back(nullptr);
+            ::execv(argv[0], argv.data());
+            ::_exit(127);
+        }
+        // Ready when both ports accept.
+        for (int i = 0; i < 300; ++i) {
+            if (accepts(port) && accepts(http_port)) return;
+            std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        }
+        ADD_FAILURE() << "ddsimp-server did not start listening";
+    }
+
+    // Sends `signal` and waits; returns the exit status (or -signal).
+    int stop(int signal = SIGTERM) {
+        if (pid_ <= 0) return 0;
+        ::kill(pid_, signal);
+        int status = 0;
+        ::waitpid(pid_, &status, 0);
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    }
+
+    static bool accepts(uint16_t p) {
+        asio::io_context io;
+        tcp::socket s(io);
+        boost::system::error_code ec;
+        s.connect({asio::ip::make_address("127.0.0.1"), p}, ec);
+        return !ec;
+    }
+
+    uint16_t port = 0, http_port = 0;
+
+private:
+    std::filesystem::path data_dir_;
+    std::vector<std::string> extra_;
+    pid_t pid_ = -1;
+};
+
+// A plain HTTP GET; returns status line + headers + body.
+inline std::string http_get(uint16_t port, const std::string& target) {
+    asio::io_context io;
+    tcp::socket s(io);
+    s.connect({asio::ip::make_address("127.0.0.1"), port});
+    const std::string req = "GET " + target + " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
+    asio::write(s, asio::buffer(req));
+    std::string out;
+    boost::system::error_code ec;
+    char buf[4096];
+    while (size_t n = s.read_some(asio::buffer(buf), ec)) out.append(buf, n);
+    return out;
+}
+
+// Blocking frames over a TCP socket, with a deadline on every read.
+class RawClient {
+public:
+    explicit RawClient(uint16_t port) : socket_(io_) {
+        socket_.connect({asio::ip::make_address("127.0.0.1"), port});
+    }
+
+    void send_bytes(const std::string& bytes) { asio::write(socket_, asio::buffer(bytes)); }
+    template <class M>
+    void send(const M& m) {
+        send_bytes(protocol::encode_frame(m));
+    }
+
+    // The next frame, or nothing if the connection closed or nothing came within the timeout.
+    std::optional<protocol::Frame> next(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+        const auto deadline = std::chrono::steady_clock::now() + timeout;
+        for (;;) {
+            if (auto f = decoder_.next()) return f;
+            if (closed_) return std::nullopt;
+            char buf[65536];
+            boost::system::error_code ec;
+            socket_.non_blocking(true);
+            const size_t n = socket_.read_some(asio::buffer(buf), ec);
+            if (ec == asio::error::would_block) {
+                if (std::chrono::steady_clock::now() > deadline) return std::nullopt;
+                std::this_thread::sleep_for(std::chrono::milliseconds(2));
+                continue;
+            }
+            if (ec) {
+                closed_ = true;
+                continue;
+            }
+            decoder_.feed(std::string_view(buf, n));
+        }
+    }
+
+    // The next frame of type M, skipping others (pongs, session states) unless strict.
+    template <class M>
+    M expect(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+        for (;;) {
+            auto f = next(timeout);
+            if (!f) throw std::runtime_error("connection closed or timed out waiting for " +
+                                             protocol::message_type_name(protocol::message_type_of<M>()));
+            if (f->type == protocol::message_type_of<M>()) return protocol::parse_payload<M>(*f);
+            if (f->type == v1::ERROR)
+                throw std::runtime_error("server error: " +
+                                         protocol::parse_payload<v1::Error>(*f).message());
+        }
+    }
+
+    bool closed_by_server(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+        while (auto f = next(timeout)) {}
+        return closed_;
+    }
+
+    v1::Welcome hello(const std::vector<std::string>& caps = {"meshopt-codec", "progressive", "sessions"},
+                      const std::string& token = "") {
+        v1::Hello h;
+        h.set_protocol_version(1);
+        h.set_client_name("test");
+        h.set_kind(v1::TOOL);
+        for (const auto& c : caps) h.add_capabilities(c);
+        send(h);
+        v1::Welcome w = expect<v1::Welcome>();
+        if (w.auth_required()) {
+            v1::Auth a;
+            a.set_token(token);
+            send(a);
+            expect<v1::AuthOk>();
+        }
+        return w;
+    }
+
+    // Uploads in 256 KiB chunks; returns the result.
+    v1::UploadResult upload(const Surface& s, uint64_t id, const std::string& name = "test",
+                            const std::string& session = "") {
+        const protocol::EncodedBlob blob = protocol::encode_mesh(s, v1::RAW);
+        v1::UploadBegin b;
+        b.set_upload_id(id);
+        b.set_name(name);
+        b.set_vertex_count(s.vertex_count());
+        b.set_triangle_count(s.triangle_count());
+        for (const Field& f : s.fields) {
+            auto* info = b.add_fields();
+            info->set_name(f.name);
+            info->set_components(uint32_t(f.components));
+        }
+        b.set_total_bytes(blob.bytes.size());
+        b.set_session(session);
+        send(b);
+        for (size_t at = 0; at < blob.bytes.size(); at += 256 * 1024) {
+            v1::UploadChunk c;
+            c.set_upload_id(id);
+            c.set_offset(at);
+            c.set_data(blob.bytes.substr(at, 256 * 1024));
+            send(c);
+        }
+        v1::UploadEnd e;
+        e.set_upload_id(id);
+        send(e);
+        return expect<v1::UploadResult>();
+    }
+
+    struct Level {
+        v1::MeshBegin begin;
+        std::string bytes;
+    };
+    // Reads one MeshBegin, its chunks and MeshEnd (other frames in between are kept in `other`).
+    Level level(std::vector<protocol::Frame>* other = nullptr) {
+        Level l;
+        for (;;) {
+            auto f = next();
+            if (!f) throw std::runtime_error("closed while waiting for a level");
+            if (f->type == v1::MESH_BEGIN) {
+                l.begin = protocol::parse_payload<v1::MeshBegin>(*f);
+            } else if (f->type == v1::MESH_CHUNK) {
+                auto c = protocol::parse_payload<v1::MeshChunk>(*f);
+                EXPECT_EQ(c.offset(), l.bytes.size());
+                l.bytes += c.data();
+            } else if (f->type == v1::MESH_END) {
+                return l;
+            } else if (f->type == v1::ERROR) {
+                throw std::runtime_error("server error: " +
+                                         protocol::parse_payload<v1::Error>(*f).message());
+            } else if (other) {
+                other->push_back(*f);
+            }
+        }
+    }
+
+    tcp::socket& socket() { return socket_; }
+
+private:
+    asio::io_context io_;
+    tcp::socket socket_;
+    protocol::FrameDecoder decoder_{64u << 20};
+    bool closed_ = false;
+};
+
+} // namespace ddsimp::test
