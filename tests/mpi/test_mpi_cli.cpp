@@ -30,14 +30,18 @@ std::string read_file(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// One scratch directory for the whole run (the inputs are made once).
+// One scratch directory for the whole run (the inputs are made once), removed at exit.
+struct ScratchDir {
+    fs::path path = fs::temp_directory_path() / ("ddsimp_mpi_tests_" + std::to_string(getpid()));
+    ScratchDir() { fs::create_directories(path); }
+    ~ScratchDir() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
 const fs::path& scratch() {
-    static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("ddsimp_mpi_tests_" + std::to_string(getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
+    static const ScratchDir dir;
+    return dir.path;
 }
 
 struct MpiRun {
