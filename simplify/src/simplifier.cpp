@@ -92,8 +92,8 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     check_options(options);
     if (!options.locked.empty() && options.locked.size() != surface.vertex_count())
         throw InputError("invalid option: locked has " + std::to_string(options.locked.size()) +
-                         " entries, but the surface has " +
-                         std::to_string(surface.vertex_count()) + " vertices");
+                         " entries, but the surface has " + std::to_string(surface.vertex_count()) +
+                         " vertices");
     gradient_.setup(surface, options.gradient_fields);
     // A collapse puts its new vertex in the slot of one of its ends, so the live vertices stay
     // where the locality order put them and the capacity is the input's.
@@ -113,6 +113,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         fail_at_.assign(surface.triangles.size(), kNone);
         seen_.assign(capacity, 0);
         epoch_.assign(capacity, 0);
+        lighter_.assign(capacity, 0);
     }
 
     record_.strategy_ = options.strategy;
@@ -194,9 +195,18 @@ void Simplifier::refresh_key(uint32_t v) {
 // around them (edge collapse); a refused far edge of one of their triangles, whose collapse
 // checks read the triangle's apex, goes back into the heap too.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
-    for (size_t i = 0; i < count; ++i) refresh_vertex(changed[i]);
-    if (options_.strategy != Strategy::EdgeCollapse) return; // refresh_vertex set the keys
-    for (size_t i = 0; i < count; ++i) epoch_[changed[i]] = uint32_t(operations_ + 1);
+    if (options_.strategy != Strategy::EdgeCollapse) { // refresh_vertex sets the keys
+        for (size_t i = 0; i < count; ++i) refresh_vertex(changed[i]);
+        return;
+    }
+    const uint32_t epoch = uint32_t(operations_ + 1);
+    for (size_t i = 0; i < count; ++i) {
+        const uint32_t v = changed[i];
+        const float before = weight_[v];
+        refresh_vertex(v);
+        lighter_[v] = weight_[v] < before;
+        epoch_[v] = epoch;
+    }
     ++stamp_now_;
     auto refresh = [&](uint32_t h) {
         const uint32_t t = mesh_.twin[h];
@@ -205,11 +215,23 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
         stamp_[id] = stamp_now_;
         refresh_edge(id);
     };
+    // changed[0] is the new vertex: every edge at it is new. The others kept their places, so
+    // an edge between two of them, or to an unchanged vertex, has its old length, and its key
+    // went up unless one end got lighter: a queued key then stays as it is (see refresh_edge),
+    // and the heap need not be read.
+    auto heavier = [&](uint32_t v, uint32_t h, uint32_t other) {
+        if (lighter_[v] || (epoch_[other] == epoch && lighter_[other])) return false;
+        const uint32_t t = mesh_.twin[h];
+        const uint32_t id = t != kNone && t < h ? t : h;
+        if (stamp_[id] == stamp_now_ || !heap_.contains(id)) return false;
+        stamp_[id] = stamp_now_;
+        return true;
+    };
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         if (mesh_.kind[v] == VertexKind::Dead || mesh_.out[v] == kNone) continue;
-        mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool outgoing) {
-            refresh(h);
+        mesh_.for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
+            if (i == 0 || !heavier(v, h, other)) refresh(h);
             // The far edge of this triangle, if refused, may be possible again.
             if (outgoing && fail_[detail::next(h)] != 0) refresh(detail::next(h));
         });

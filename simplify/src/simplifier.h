@@ -93,6 +93,8 @@ private:
     // refused h; epoch_[v] is 1 + the operation count when v's star last changed. A refusal
     // stands while no end or apex of the edge has changed since (the checks read nothing else).
     std::vector<uint32_t> fail_, epoch_;
+    // Edge collapse: lighter_[v] says whether v's last refresh lowered its weight.
+    std::vector<uint8_t> lighter_;
     // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
     // (kNone: another check refused it); plan_collapse tests it first.
     std::vector<uint32_t> fail_at_;
