@@ -259,10 +259,10 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     }
 
     // The new vertex.
-    for (int c = 0; c < 3; ++c) m.position[3 * size_t(n) + c] = float(plan.point[c]);
-    const float* da = m.data.data() + a * m.stride;
-    const float* db = m.data.data() + b * m.stride;
-    float* dn = m.data.data() + n * m.stride;
+    for (int c = 0; c < 3; ++c) m.position_of(n)[c] = float(plan.point[c]);
+    const float* da = m.data_of(a);
+    const float* db = m.data_of(b);
+    float* dn = m.data_of(n);
     for (size_t c = 0; c < m.stride; ++c)
         dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
     m.kind[a] = m.kind[b] = VertexKind::Dead;
@@ -274,8 +274,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     const Vec3 ref = add(m.reference_normal(a), m.reference_normal(b));
     const double lr = norm(ref);
     for (int c = 0; c < 3; ++c)
-        m.reference[3 * size_t(n) + c] =
-            lr > 0 ? float(ref[c] / lr) : m.reference[3 * size_t(a) + c];
+        m.reference_of(n)[c] = lr > 0 ? float(ref[c] / lr) : m.reference_of(a)[c];
     m.kind[n] = VertexKind::Free;
     if (!m.locked.empty()) m.locked[n] = m.locked[a] | m.locked[b]; // placed on the locked end
     m.reset_out(n, leaving[0]);
@@ -285,7 +284,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     record_.collapse_.push_back(id_[a]);
     record_.collapse_.push_back(id_[b]);
     id_[n] = uint32_t(record_.input_vertices_ + operations_);
-    made_.insert(made_.end(), &m.position[3 * size_t(n)], &m.position[3 * size_t(n) + 3]);
+    made_.insert(made_.end(), m.position_of(n), m.position_of(n) + 3);
     made_.insert(made_.end(), dn, dn + m.stride);
     ++operations_;
 

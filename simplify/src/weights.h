@@ -25,13 +25,12 @@ struct GradientTerms {
     class Steepest {
     public:
         Steepest(const GradientTerms& terms, const WorkingMesh& mesh, uint32_t v)
-            : terms_(terms), mesh_(mesh), f_(mesh.data.data() + v * mesh.stride),
-              x_(&mesh.position[3 * size_t(v)]),
+            : terms_(terms), mesh_(mesh), f_(mesh.data_of(v)), x_(mesh.position_of(v)),
               active_(!terms.components.empty() && terms.inv_diagonal != 0) {}
         void consider(uint32_t u) {
             if (!active_) return;
-            const float* fu = mesh_.data.data() + u * mesh_.stride;
-            const float* xu = &mesh_.position[3 * size_t(u)];
+            const float* fu = mesh_.data_of(u);
+            const float* xu = mesh_.position_of(u);
             const float dx =
                 std::abs(xu[0] - x_[0]) + std::abs(xu[1] - x_[1]) + std::abs(xu[2] - x_[2]);
             if (dx <= 0) return; // coincident points: no direction to take a gradient along

@@ -9,15 +9,17 @@ namespace ddsimp::detail {
 void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
     limits = lim;
     vertex_count = s.vertex_count();
-    position.assign(3 * capacity, 0.0f);
-    std::copy(s.positions.begin(), s.positions.end(), position.begin());
     stride = 0;
     for (const Field& f : s.fields) stride += size_t(f.components);
-    data.assign(stride * capacity, 0.0f);
-    for (size_t v = 0, offset = 0; v < vertex_count; ++v)
+    record = 6 + stride;
+    records.assign(record * capacity, 0.0f);
+    for (uint32_t v = 0; v < vertex_count; ++v) {
+        std::copy_n(&s.positions[3 * size_t(v)], 3, position_of(v));
+        float* d = data_of(v);
         for (const Field& f : s.fields)
             for (int c = 0; c < f.components; ++c)
-                data[offset++] = f.values[v * size_t(f.components) + size_t(c)];
+                *d++ = f.values[v * size_t(f.components) + size_t(c)];
+    }
 
     const size_t halfedges = s.triangles.size();
     origin.assign(s.triangles.begin(), s.triangles.end());
@@ -54,7 +56,6 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
         }
     }
 
-    reference.assign(3 * capacity, 0.0f);
     {
         std::vector<double> sum(3 * vertex_count, 0.0);
         for (uint32_t t = 0; t < live_triangles; ++t) {
@@ -82,7 +83,8 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
             const double l = std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
                                        sum[3 * v + 2] * sum[3 * v + 2]);
             if (l > 0)
-                for (int k = 0; k < 3; ++k) reference[3 * v + k] = float(sum[3 * v + k] / l);
+                for (int k = 0; k < 3; ++k)
+                    reference_of(uint32_t(v))[k] = float(sum[3 * v + k] / l);
         }
     }
 

@@ -61,19 +61,18 @@ struct Limits {
 
 struct WorkingMesh {
     // Per vertex (capacity: input vertices + one new vertex per possible collapse).
-    std::vector<float> position; // 3 per vertex
-    std::vector<float> data;     // `stride` per vertex: every field's components, in field order
-    size_t stride = 0;
+    // One record of `record` floats per vertex: its position (3), its reference normal (3, see
+    // reference_normal) and its data (`stride` values: every field's components, in field
+    // order). One array rather than three, because an operation reads all three of the same few
+    // vertices: one cache line per vertex instead of three.
+    std::vector<float> records;
+    size_t stride = 0, record = 6;
     std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
     std::vector<VertexKind> kind;
     std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
     // Options::locked by vertex slot (empty: none); classify makes a locked vertex a Corner, and
     // a collapse into a locked vertex passes the lock on to the slot of the new vertex.
     std::vector<uint8_t> locked;
-    // Unit normal of the input surface around each vertex (a new vertex averages its edge's
-    // two): no operation may leave a triangle facing away from its corners' normals, so turns
-    // cannot add up to a flip over many operations.
-    std::vector<float> reference;
     size_t vertex_count = 0; // vertices in use (ids below this)
 
     // Per half-edge.
@@ -89,8 +88,18 @@ struct WorkingMesh {
     // `capacity` is the number of vertex slots to reserve.
     void build(const Surface& surface, size_t capacity, const Limits& limits);
 
+    float* position_of(uint32_t v) { return &records[size_t(v) * record]; }
+    const float* position_of(uint32_t v) const { return &records[size_t(v) * record]; }
+    // Unit normal of the input surface around v (a new vertex averages its edge's two): no
+    // operation may leave a triangle facing away from its corners' normals, so turns cannot add
+    // up to a flip over many operations.
+    float* reference_of(uint32_t v) { return &records[size_t(v) * record + 3]; }
+    const float* reference_of(uint32_t v) const { return &records[size_t(v) * record + 3]; }
+    float* data_of(uint32_t v) { return &records[size_t(v) * record + 6]; }
+    const float* data_of(uint32_t v) const { return &records[size_t(v) * record + 6]; }
+
     Vec3 reference_normal(uint32_t v) const {
-        const float* n = &reference[3 * size_t(v)];
+        const float* n = reference_of(v);
         return {n[0], n[1], n[2]};
     }
     // Does a triangle with (unnormalised) normal n face the way of the surface at its corners
@@ -99,7 +108,7 @@ struct WorkingMesh {
         return ((dot(n, reference_normal(corners)) > 0) && ...);
     }
     Vec3 point(uint32_t v) const {
-        const float* p = &position[3 * size_t(v)];
+        const float* p = position_of(v);
         return {p[0], p[1], p[2]};
     }
     uint32_t dest(uint32_t h) const { return origin[next(h)]; }
