@@ -88,14 +88,15 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
         }
     }
 
-    // Feature edges from the dihedral angle between twin triangles.
-    std::vector<Vec3> normal(s.triangle_count());
+    // Feature edges from the dihedral angle between twin triangles (none when the limit is
+    // below every cosine: feature angle 180, the default).
+    std::vector<Vec3> normal(limits.feature_cos >= -1 ? s.triangle_count() : 0);
     for (uint32_t t = 0; t < normal.size(); ++t) {
         Vec3 n = triangle_normal(t);
         const double len = norm(n);
         normal[t] = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
     }
-    for (uint32_t h = 0; h < halfedges; ++h) {
+    for (uint32_t h = 0; h < halfedges && !normal.empty(); ++h) {
         const uint32_t t = twin[h];
         if (t == kNone) continue;
         const Vec3 &n0 = normal[h / 3], &n1 = normal[t / 3];
