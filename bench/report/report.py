@@ -461,7 +461,14 @@ def main():
     if not args.quick:
         picture = os.path.join(args.out, f"{args.render_surface}-10pct.png")
         images.append((f"{args.render_surface} at 10%, coloured by its data", picture))
-    write_report(rows, names, goals, scaling, args.out, args.quick, images, time.time() - start)
+    # Time spent on this report over all its sessions (an interrupted run resumed counts both).
+    spent_file = os.path.join(cache, "elapsed-seconds")
+    spent = time.time() - start
+    if os.path.exists(spent_file):
+        spent += float(open(spent_file).read())
+    with open(spent_file, "w") as f:
+        f.write(f"{spent:.0f}\n")
+    write_report(rows, names, goals, scaling, args.out, args.quick, images, spent)
     print(f"report.py: wrote {args.out}/report.md, results.csv", file=sys.stderr)
 
 
