@@ -10,6 +10,7 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
+#include <vtkAlgorithm.h>
 #include <vtkDataArray.h>
 #include <vtkDecimatePro.h>
 #include <vtkIdTypeArray.h>
@@ -83,7 +84,7 @@ PeerOutput run_meshopt(const Surface& input, const PeerRequest& request) {
 
 // The poly data handed to VTK's filters: the fields as point arrays, the first 1-component field
 // as the active scalars and the first 3-component one as the active vectors (the attributes
-// vtkQuadricDecimation's error metric can weigh), plus every point's input index.
+// vtkQuadricDecimation's error metric can weigh).
 vtkSmartPointer<vtkPolyData> vtk_input(const Surface& input) {
     vtkSmartPointer<vtkPolyData> poly = io::polydata_from_surface(input);
     vtkPointData* pd = poly->GetPointData();
@@ -95,13 +96,27 @@ vtkSmartPointer<vtkPolyData> vtk_input(const Surface& input) {
     return poly;
 }
 
+// VTK's filters aim at a reduction: the fraction of the triangles to remove.
+double target_reduction(const Surface& input, const PeerRequest& request) {
+    return 1.0 - double(request.target_triangles) / double(input.triangle_count());
+}
+
+// Runs the filter; an error VTK reports (only by printing it) marks the output as failed.
+void update_reporting_errors(vtkAlgorithm* filter, PeerOutput& out) {
+    io::VtkMessageCapture messages;
+    filter->Update();
+    if (messages.has_error()) {
+        out.failed = true;
+        out.message = messages.first_error();
+    }
+}
+
 // vtkQuadricDecimation with its attribute error metric (Hoppe's): the active scalars and vectors
 // count in the quadrics and are interpolated at the new points.
 PeerOutput run_vtk_quadric(const Surface& input, const PeerRequest& request) {
     auto filter = vtkSmartPointer<vtkQuadricDecimation>::New();
     filter->SetInputData(vtk_input(input));
-    filter->SetTargetReduction(1.0 -
-                               double(request.target_triangles) / double(input.triangle_count()));
+    filter->SetTargetReduction(target_reduction(input, request));
     filter->AttributeErrorMetricOn();
     filter->ScalarsAttributeOn();
     filter->VectorsAttributeOn();
@@ -109,12 +124,7 @@ PeerOutput run_vtk_quadric(const Surface& input, const PeerRequest& request) {
     filter->TCoordsAttributeOff();
     filter->TensorsAttributeOff();
     PeerOutput out;
-    io::VtkMessageCapture messages;
-    filter->Update();
-    if (messages.has_error()) {
-        out.failed = true;
-        out.message = messages.first_error();
-    }
+    update_reporting_errors(filter, out);
     out.surface = io::surface_from_dataset(filter->GetOutput(), "vtkQuadricDecimation output");
     out.triangles_seen = input.triangle_count();
     return out;
@@ -132,18 +142,12 @@ PeerOutput run_vtk_decimatepro(const Surface& input, const PeerRequest& request)
 
     auto filter = vtkSmartPointer<vtkDecimatePro>::New();
     filter->SetInputData(poly);
-    filter->SetTargetReduction(1.0 -
-                               double(request.target_triangles) / double(input.triangle_count()));
+    filter->SetTargetReduction(target_reduction(input, request));
     filter->PreserveTopologyOn();
     filter->SplittingOff();
     filter->BoundaryVertexDeletionOn();
     PeerOutput out;
-    io::VtkMessageCapture messages;
-    filter->Update();
-    if (messages.has_error()) {
-        out.failed = true;
-        out.message = messages.first_error();
-    }
+    update_reporting_errors(filter, out);
     vtkPolyData* result = filter->GetOutput();
     vtkDataArray* kept = result->GetPointData()->GetArray("ddsimp report input id");
     if (!kept) throw std::runtime_error("vtkDecimatePro dropped the point ids");
