@@ -222,7 +222,8 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              f"{'quick mode, ' if quick else ''}in {elapsed / 60:.1f} min by "
              "`bench/report/run.sh" + (" --quick" if quick else "") + "`.\n")
     L.append("Every reduction ran in its own process (`ddsimp_report reduce`); time is the "
-             "simplifier's call alone (wall clock, one thread), memory the process's peak RSS "
+             "wall clock of the simplifier's call on the loaded surface, one thread, conversion to "
+             "and from a peer's own mesh type included (for ddsimp: its validation and adjacency), memory the process's peak RSS "
              "(`ru_maxrss`, loaded surface included) and the rise of the RSS during the call. "
              "Errors are measured by the same code for every simplifier (`tools/compare.h`, as "
              "`ddsimp compare`): geometric RMS and Hausdorff distance both ways, relative to the "
