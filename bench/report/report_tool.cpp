@@ -38,7 +38,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <memory>
+#include <numbers>
 #include <string>
 
 namespace {
@@ -255,7 +255,7 @@ void derive_heat(Surface& surface) {
         }
         const double y = (surface.positions[3 * v + 1] - lo[1]) / diagonal;
         heat.values.push_back(static_cast<float>(std::exp(-d2 / (2 * width * width)) +
-                                                 0.25 * std::sin(8 * M_PI * y)));
+                                                 0.25 * std::sin(8 * std::numbers::pi * y)));
     }
     surface.fields.push_back(std::move(heat));
 }
