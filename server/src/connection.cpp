@@ -321,6 +321,11 @@ void Connection::on_written(size_t bytes) {
     pump();
 }
 
+void Connection::on_write_timeout() {
+    drop(fmt::format("no progress sending for {:g} s (it stopped reading)",
+                     service_.config().send_timeout_s));
+}
+
 void Connection::on_closed(const std::string& why) {
     if (closed_) return;
     closed_ = true;

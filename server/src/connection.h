@@ -48,6 +48,7 @@ public:
     void on_bad_frame(const std::string& why) override;
     void on_closed(const std::string& why) override;
     void on_written(size_t bytes) override;
+    void on_write_timeout() override;
 
 private:
     void handle(const protocol::Frame& frame);

@@ -36,7 +36,7 @@ public:
         out_ = std::move(frame);
         write_timer_.expires_after(limits_.send_timeout);
         write_timer_.async_wait([self = this->shared_from_this()](boost::system::error_code ec) {
-            if (!ec) self->fail("no progress sending for the send timeout (a slow reader)");
+            if (!ec && self->handler_) self->handler_->on_write_timeout();
         });
         asio::async_write(
             stream_, asio::buffer(out_),

@@ -17,6 +17,7 @@ public:
     virtual void on_bad_frame(const std::string& why) = 0; // then write the error and close
     virtual void on_closed(const std::string& why) = 0;    // called once, after which nothing
     virtual void on_written(size_t bytes) = 0;             // the last write completed
+    virtual void on_write_timeout() = 0; // a write made no progress for the send timeout
 };
 
 class Transport {

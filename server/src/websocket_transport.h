@@ -38,7 +38,7 @@ public:
         writing_ = true;
         write_timer_.expires_after(send_timeout_);
         write_timer_.async_wait([self = this->shared_from_this()](boost::system::error_code ec) {
-            if (!ec) self->shutdown("no progress sending for the send timeout (a slow reader)");
+            if (!ec && self->handler_) self->handler_->on_write_timeout();
         });
         ws_.async_write(boost::asio::buffer(out_),
                         [self = this->shared_from_this()](beast::error_code ec, size_t n) {
