@@ -12,6 +12,7 @@
 #include <csignal>
 #include <filesystem>
 #include <string>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <thread>
 #include <unistd.h>
@@ -48,12 +49,19 @@ public:
     void start() {
         port = free_port();
         http_port = free_port();
-        std::vector<std::string> args{DDSIMP_SERVER_BINARY, "--port", std::to_string(port),
-                                      "--http-port", std::to_string(http_port), "--data-dir",
-                                      data_dir_.string(), "--log-level", "warn"};
+        std::vector<std::string> args{DDSIMP_SERVER_BINARY,
+                                      "--port",
+                                      std::to_string(port),
+                                      "--http-port",
+                                      std::to_string(http_port),
+                                      "--data-dir",
+                                      data_dir_.string(),
+                                      "--log-level",
+                                      "warn"};
         args.insert(args.end(), extra_.begin(), extra_.end());
         pid_ = ::fork();
         if (pid_ == 0) {
+            ::prctl(PR_SET_PDEATHSIG, SIGKILL); // never outlive a test that crashed
             std::vector<char*> argv;
             for (auto& a : args) argv.push_back(a.data());
             argv.push_back(nullptr);
@@ -99,7 +107,8 @@ inline std::string http_get(uint16_t port, const std::string& target) {
     asio::io_context io;
     tcp::socket s(io);
     s.connect({asio::ip::make_address("127.0.0.1"), port});
-    const std::string req = "GET " + target + " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
+    const std::string req =
+        "GET " + target + " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n";
     asio::write(s, asio::buffer(req));
     std::string out;
     boost::system::error_code ec;
@@ -115,14 +124,15 @@ public:
         socket_.connect({asio::ip::make_address("127.0.0.1"), port});
     }
 
-    void send_bytes(const std::string& bytes) { asio::write(socket_, asio::buffer(bytes)); }
-    template <class M>
-    void send(const M& m) {
-        send_bytes(protocol::encode_frame(m));
+    void send_bytes(const std::string& bytes) {
+        socket_.non_blocking(false); // next() reads without blocking
+        asio::write(socket_, asio::buffer(bytes));
     }
+    template <class M> void send(const M& m) { send_bytes(protocol::encode_frame(m)); }
 
     // The next frame, or nothing if the connection closed or nothing came within the timeout.
-    std::optional<protocol::Frame> next(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    std::optional<protocol::Frame>
+    next(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
         const auto deadline = std::chrono::steady_clock::now() + timeout;
         for (;;) {
             if (auto f = decoder_.next()) return f;
@@ -145,12 +155,13 @@ public:
     }
 
     // The next frame of type M, skipping others (pongs, session states) unless strict.
-    template <class M>
-    M expect(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    template <class M> M expect(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
         for (;;) {
             auto f = next(timeout);
-            if (!f) throw std::runtime_error("connection closed or timed out waiting for " +
-                                             protocol::message_type_name(protocol::message_type_of<M>()));
+            if (!f)
+                throw std::runtime_error(
+                    "connection closed or timed out waiting for " +
+                    protocol::message_type_name(protocol::message_type_of<M>()));
             if (f->type == protocol::message_type_of<M>()) return protocol::parse_payload<M>(*f);
             if (f->type == v1::ERROR)
                 throw std::runtime_error("server error: " +
@@ -159,11 +170,13 @@ public:
     }
 
     bool closed_by_server(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
-        while (auto f = next(timeout)) {}
+        while (auto f = next(timeout)) {
+        }
         return closed_;
     }
 
-    v1::Welcome hello(const std::vector<std::string>& caps = {"meshopt-codec", "progressive", "sessions"},
+    v1::Welcome hello(const std::vector<std::string>& caps = {"meshopt-codec", "progressive",
+                                                              "sessions"},
                       const std::string& token = "") {
         v1::Hello h;
         h.set_protocol_version(1);

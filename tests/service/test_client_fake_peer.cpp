@@ -1,8 +1,8 @@
 // libddsimp-client against a scripted peer (fake_peer.h): what it sends on the wire (Hello,
 // Auth only when asked, uploads in 512 KiB chunks, requests) and how it reads what a server
 // sends (levels raw, meshopt and progressive, errors that end one request, sessions).
-#include "client_test_support.h"
 #include "fake_peer.h"
+#include "mesh_comparison.h"
 #include "test_surfaces.h"
 
 #include "ddsimp/client.h"
@@ -200,7 +200,7 @@ TEST(ClientFakePeer, UploadTravelsInChunksOf512KiBAndArrivesWhole) {
     for (const auto& f : begin.fields()) layout.fields.push_back({f.name(), f.components()});
     layout.section_bytes =
         protocol::raw_mesh_sections(layout.vertex_count, layout.triangle_count, layout.fields);
-    EXPECT_TRUE(test::identical(protocol::decode_mesh(received, layout), surface));
+    EXPECT_TRUE(test::same_bytes(protocol::decode_mesh(received, layout), surface));
 }
 
 struct LevelCase {
@@ -288,7 +288,7 @@ TEST_P(ClientLevels, EveryLevelArrivesAsTheServerEncodedIt) {
         // codec may start a triangle at another corner (same orientation, compared above).
         EXPECT_EQ(fine.mesh.positions, expected_fine.positions);
         if (param.encoding == v1::RAW) {
-            EXPECT_TRUE(test::identical(fine.mesh, expected_fine));
+            EXPECT_TRUE(test::same_bytes(fine.mesh, expected_fine));
         }
         EXPECT_TRUE(fine.slots.triangles.empty());
     } else {

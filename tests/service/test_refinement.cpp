@@ -2,33 +2,13 @@
 // every finer level of the record: the same triangles over the same vertices and data.
 #include "ddsimp/protocol/refinement.h"
 
+#include "mesh_comparison.h"
 #include "test_surfaces.h"
 
 namespace ddsimp::protocol {
 namespace {
 
-// A triangle as the positions and data of its corners, starting at its smallest corner, so
-// two meshes with different vertex numbering can be compared.
-using Corner = std::vector<float>;
-using CornerTriangle = std::vector<Corner>;
-
-std::multiset<CornerTriangle> triangles_by_content(const Surface& s) {
-    std::multiset<CornerTriangle> out;
-    for (size_t t = 0; t < s.triangles.size(); t += 3) {
-        CornerTriangle tri;
-        for (int c = 0; c < 3; ++c) {
-            const uint32_t v = s.triangles[t + c];
-            Corner corner(&s.positions[3 * v], &s.positions[3 * v + 3]);
-            for (const Field& f : s.fields)
-                corner.insert(corner.end(), &f.values[v * f.components],
-                              &f.values[(v + 1) * f.components]);
-            tri.push_back(corner);
-        }
-        std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
-        out.insert(tri);
-    }
-    return out;
-}
+using test::triangles_by_content;
 
 class Refinements : public ::testing::TestWithParam<Strategy> {};
 INSTANTIATE_TEST_SUITE_P(Strategies, Refinements,

@@ -1,4 +1,5 @@
-// Shared by the client tests: comparing meshes whose vertices are numbered differently.
+// Shared by the service tests: comparing meshes that travelled, whose vertices may be numbered
+// differently (progressive refinements) or whose triangles may start at another corner (meshopt).
 #pragma once
 
 #include <ddsimp/ddsimp.h>
@@ -32,17 +33,14 @@ inline std::multiset<CornerTriangle> triangles_by_content(const Surface& s) {
     return out;
 }
 
-// Byte-equal surfaces: same positions, triangles and fields in the same order.
-inline bool identical(const Surface& a, const Surface& b) {
-    if (a.positions != b.positions || a.triangles != b.triangles ||
-        a.fields.size() != b.fields.size())
-        return false;
-    for (size_t f = 0; f < a.fields.size(); ++f)
-        if (a.fields[f].name != b.fields[f].name ||
-            a.fields[f].components != b.fields[f].components ||
-            a.fields[f].values != b.fields[f].values)
-            return false;
-    return true;
+// Turns each triangle of `s` to start at the corner the same triangle of `like` starts at, if it
+// is the same triangle (meshopt's index codec may rotate a triangle; orientation is kept).
+// Vertices and the order of triangles are left alone, so same_bytes still checks them.
+inline void rotate_to_match(Surface& s, const Surface& like) {
+    if (s.triangles.size() != like.triangles.size()) return;
+    for (size_t t = 0; t < s.triangles.size(); t += 3)
+        for (int r = 0; r < 2 && s.triangles[t] != like.triangles[t]; ++r)
+            std::rotate(&s.triangles[t], &s.triangles[t + 1], &s.triangles[t + 3]);
 }
 
 } // namespace ddsimp::test
