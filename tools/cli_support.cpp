@@ -7,6 +7,24 @@
 
 namespace ddsimp::cli {
 
+Failure failure_of(std::exception_ptr error) {
+    try {
+        std::rethrow_exception(error);
+    } catch (const UsageError& e) {
+        return {kExitUsageError, e.what()};
+    } catch (const io::IoError& e) {
+        return {kExitInputError, e.what()};
+    } catch (const InputError& e) {
+        return {kExitInputError, e.what()};
+    } catch (const std::bad_alloc&) {
+        return {kExitInputError, "out of memory"};
+    } catch (const std::exception& e) {
+        return {kExitInputError, std::string("internal error: ") + e.what()};
+    } catch (...) {
+        return {kExitInputError, "internal error: an unknown exception"};
+    }
+}
+
 std::string join(const std::vector<std::string>& items, const std::string& separator) {
     std::string out;
     for (const std::string& item : items) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <exception>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,14 @@ struct UsageError : std::runtime_error {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInputError = 1; // missing, malformed or unsuitable input; I/O failure
 inline constexpr int kExitUsageError = 2; // the command line itself is wrong
+
+// The exit status and message for an exception a command let through: a UsageError is 2; input,
+// I/O and memory errors are 1, and so is anything else, as an internal error.
+struct Failure {
+    int status = kExitInputError;
+    std::string message;
+};
+Failure failure_of(std::exception_ptr error);
 
 std::string join(const std::vector<std::string>& items, const std::string& separator = ", ");
 

@@ -60,15 +60,8 @@ int main(int argc, char** argv) {
         for (const Command& c : commands)
             if (c.app->parsed()) return c.run();
         return fail(kExitUsageError, "no command given (see ddsimp --help)");
-    } catch (const UsageError& e) {
-        return fail(kExitUsageError, e.what());
-    } catch (const ddsimp::io::IoError& e) {
-        return fail(kExitInputError, e.what());
-    } catch (const ddsimp::InputError& e) {
-        return fail(kExitInputError, e.what());
-    } catch (const std::bad_alloc&) {
-        return fail(kExitInputError, "out of memory");
-    } catch (const std::exception& e) {
-        return fail(kExitInputError, std::string("internal error: ") + e.what());
+    } catch (...) {
+        const Failure f = failure_of(std::current_exception());
+        return fail(f.status, f.message);
     }
 }

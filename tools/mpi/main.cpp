@@ -66,16 +66,9 @@ int run(int argc, char** argv) {
         return ddsimp::mpi::distributed_simplify(args, *simplify, pieces);
     } catch (const ddsimp::mpi::RankStopped&) {
         return kExitInputError; // rank 0 reports the error
-    } catch (const UsageError& e) {
-        return fail(kExitUsageError, e.what());
-    } catch (const ddsimp::io::IoError& e) {
-        return fail(kExitInputError, e.what());
-    } catch (const ddsimp::InputError& e) {
-        return fail(kExitInputError, e.what());
-    } catch (const std::bad_alloc&) {
-        return fail(kExitInputError, "out of memory");
-    } catch (const std::exception& e) {
-        return fail(kExitInputError, std::string("internal error: ") + e.what());
+    } catch (...) {
+        const Failure f = failure_of(std::current_exception());
+        return fail(f.status, f.message);
     }
 }
 
