@@ -415,7 +415,13 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
     const float keep = s.view.keep() > 0 ? s.view.keep() : 1.0f;
     const std::string name = s.name;
     const uint64_t version = s.view_version;
-    asio::post(pool_, [this, params, key, keep, name, version, targets = std::move(targets)] {
+    // Encode only what the members asked for.
+    bool need_raw = false, need_meshopt = false;
+    for (uint64_t id : targets)
+        if (auto c = find(id))
+            (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
+    asio::post(pool_, [this, params, key, keep, name, version, need_raw, need_meshopt,
+                       targets = std::move(targets)] {
         std::shared_ptr<const EncodedLevel> raw, meshopt;
         std::string failure;
         double seconds = 0;
@@ -423,8 +429,8 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
             bool computed = false;
             auto rec = reductions_.record(params, key, &computed);
             seconds = computed ? rec->seconds : 0;
-            raw = reductions_.level(*rec, key, keep, v1::RAW);
-            meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT);
+            if (need_raw) raw = reductions_.level(*rec, key, keep, v1::RAW);
+            if (need_meshopt) meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT);
         } catch (const std::exception& e) {
             failure = e.what();
         }
@@ -439,6 +445,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
                     continue;
                 }
                 const auto& level = c->has_capability("meshopt-codec") ? meshopt : raw;
+                if (!level) continue; // connected after the mesh was asked for
                 c->drop_unstarted([&](const BulkItem& item) { return item.session == name; });
                 v1::MeshBegin begin;
                 begin.set_session(name);
