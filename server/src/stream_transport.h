@@ -43,7 +43,7 @@ public:
             [self = this->shared_from_this()](boost::system::error_code ec, size_t n) {
                 self->write_timer_.cancel();
                 self->writing_ = false;
-                if (ec) return self->fail("write failed: " + ec.message());
+                if (ec) return self->shutdown("write failed: " + ec.message());
                 if (self->closing_) return self->shutdown("closed by the server");
                 if (self->handler_) self->handler_->on_written(n);
             });
@@ -61,7 +61,7 @@ private:
     void read_header() {
         asio::async_read(stream_, asio::buffer(header_),
                          [self = this->shared_from_this()](boost::system::error_code ec, size_t) {
-                             if (ec) return self->fail(describe_read_error(ec));
+                             if (ec) return self->shutdown(describe_read_error(ec));
                              self->on_header();
                          });
     }
@@ -79,7 +79,7 @@ private:
         asio::async_read(stream_, asio::buffer(payload_),
                          [self = this->shared_from_this()](boost::system::error_code ec, size_t) {
                              if (ec)
-                                 return self->fail("truncated frame: " + describe_read_error(ec));
+                                 return self->shutdown("truncated frame: " + describe_read_error(ec));
                              if (!self->handler_ || self->closing_) return;
                              self->handler_->on_frame({self->type_, std::move(self->payload_)});
                              if (!self->closing_) self->read_header();
@@ -91,8 +91,6 @@ private:
             return "the client closed the connection";
         return ec.message();
     }
-
-    void fail(const std::string& why) { shutdown(why); }
 
     void shutdown(const std::string& why) {
         if (closed_) return;
