@@ -55,12 +55,18 @@ using Clock = std::chrono::steady_clock;
 
 Service::Service(asio::io_context& io, const Config& config)
     : io_(io), config_(config), store_(config.data_dir), cache_(config.cache_mb << 20),
-      reductions_(store_, cache_), sessions_(config.max_sessions), pool_(size_t(config.threads)) {
+      reductions_(store_, cache_), sessions_(config.max_sessions) {
+    if (config.threads > 0) pool_.emplace(size_t(config.threads));
     load_sample();
 }
 
 Service::~Service() {
-    pool_.join();
+    if (pool_) pool_->join();
+}
+
+asio::any_io_executor Service::compute() {
+    if (pool_) return pool_->get_executor();
+    return io_.get_executor();
 }
 
 void Service::load_sample() {
@@ -126,7 +132,7 @@ void Service::stop() {
 
 void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes) {
     ++metrics_.uploads;
-    asio::post(pool_, [this, c, begin = std::move(begin), bytes = std::move(bytes)] {
+    asio::post(compute(), [this, c, begin = std::move(begin), bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
         v1::Error error;
@@ -256,7 +262,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
 
     c->begin_request(rid);
     const auto start = Clock::now();
-    asio::post(pool_, [this, c, r, params, key, encoding, progressive, order, start] {
+    asio::post(compute(), [this, c, r, params, key, encoding, progressive, order, start] {
         std::vector<PreparedLevel> levels;
         v1::Error error;
         error.set_request_id(r.request_id());
@@ -420,8 +426,8 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
     for (uint64_t id : targets)
         if (auto c = find(id))
             (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
-    asio::post(pool_, [this, params, key, keep, name, version, need_raw, need_meshopt,
-                       targets = std::move(targets)] {
+    asio::post(compute(), [this, params, key, keep, name, version, need_raw, need_meshopt,
+                           targets = std::move(targets)] {
         std::shared_ptr<const EncodedLevel> raw, meshopt;
         std::string failure;
         double seconds = 0;

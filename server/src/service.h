@@ -11,11 +11,13 @@
 #include "sessions.h"
 #include "surface_store.h"
 
+#include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/thread_pool.hpp>
 
 #include <map>
 #include <memory>
+#include <optional>
 
 namespace ddsimp::server {
 
@@ -52,6 +54,9 @@ private:
     void send_session_mesh(const Session& s, std::vector<uint64_t> targets);
     std::shared_ptr<Connection> find(uint64_t id);
     void load_sample();
+    // Where heavy work runs: the compute pool, or the network thread itself when
+    // config.threads is 0 (one thread, a deterministic order: the fuzz targets drive it so).
+    boost::asio::any_io_executor compute();
 
     boost::asio::io_context& io_;
     Config config_;
@@ -60,7 +65,7 @@ private:
     ResultCache cache_;
     Reductions reductions_;
     Sessions sessions_;
-    boost::asio::thread_pool pool_;
+    std::optional<boost::asio::thread_pool> pool_; // none when config.threads is 0
     std::map<uint64_t, std::weak_ptr<Connection>> connections_;
     std::map<std::string, ReductionParams> known_results_; // result key -> what it computes
     uint64_t next_id_ = 1;
