@@ -6,6 +6,7 @@
 #include <boost/beast/http.hpp>
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -44,11 +45,37 @@ std::string web_file(const std::string& dir, std::string target) {
     return dir + target;
 }
 
-constexpr const char* kNoWebPage =
-    "<!doctype html><title>ddsimp-server</title><h1>ddsimp-server</h1>"
-    "<p>The browser renderer is not installed here (start the server with --web-dir "
-    "pointing at web/dist). Endpoints: <a href=\"/healthz\">/healthz</a>, "
-    "<a href=\"/metrics\">/metrics</a>, WebSocket <code>/ws</code>.</p>\n";
+bool is_page_root(const std::string& target) {
+    return target == "/" || target.rfind("/?", 0) == 0 || target == "/index.html";
+}
+
+std::string html_escape(const std::string& text) {
+    std::string out;
+    for (char ch : text) {
+        if (ch == '&')
+            out += "&amp;";
+        else if (ch == '<')
+            out += "&lt;";
+        else if (ch == '>')
+            out += "&gt;";
+        else
+            out += ch;
+    }
+    return out;
+}
+
+// What / shows when the browser renderer has not been built (or --web-dir points elsewhere).
+std::string no_web_page(const std::string& dir) {
+    const std::string where = dir.empty() ? std::string("no --web-dir is set")
+                                          : "there is no index.html in " + html_escape(dir);
+    return "<!doctype html><title>ddsimp-server</title><h1>ddsimp-server</h1>"
+           "<p>The browser renderer is not here: " +
+           where +
+           ". Build it with <code>npm ci &amp;&amp; npm run build</code> in <code>web/</code> "
+           "(<code>scripts/run.sh</code> does this) and start the server with "
+           "<code>--web-dir web/dist</code>.</p><p>Endpoints: <a href=\"/healthz\">/healthz</a>, "
+           "<a href=\"/metrics\">/metrics</a>, WebSocket <code>/ws</code>.</p>\n";
+}
 
 template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
@@ -112,25 +139,28 @@ private:
 
     void serve_file(const std::string& target, http::response<http::string_body>& res) {
         const std::string& dir = service_.config().web_dir;
-        if (dir.empty()) {
-            if (target == "/" || target.rfind("/?", 0) == 0) {
-                res.set(http::field::content_type, "text/html; charset=utf-8");
-                res.body() = kNoWebPage;
+        const std::string path = dir.empty() ? std::string() : web_file(dir, target);
+        std::error_code ec;
+        std::ifstream in;
+        if (!path.empty() && std::filesystem::is_regular_file(path, ec))
+            in.open(path, std::ios::binary);
+        if (!in.is_open()) {
+            res.set(http::field::content_type, "text/html; charset=utf-8");
+            if (is_page_root(target)) {
+                res.body() = no_web_page(dir);
             } else {
                 res.result(http::status::not_found);
+                res.set(http::field::content_type, "text/plain");
                 res.body() = "not found\n";
             }
             return;
         }
-        const std::string path = web_file(dir, target);
-        std::ifstream in(path, std::ios::binary);
-        if (path.empty() || !in) {
-            res.result(http::status::not_found);
-            res.set(http::field::content_type, "text/plain");
-            res.body() = "not found\n";
-            return;
-        }
         res.set(http::field::content_type, content_type(path));
+        // Vite names the files under assets/ by their content: they never change. The page
+        // itself must be asked for again so a rebuilt renderer is picked up.
+        res.set(http::field::cache_control, target.rfind("/assets/", 0) == 0
+                                                ? "public, max-age=31536000, immutable"
+                                                : "no-cache");
         res.body().assign(std::istreambuf_iterator<char>(in), {});
     }
 

@@ -1,0 +1,2 @@
+# A test that fails with the reason it was given (a prerequisite is missing).
+message(FATAL_ERROR "${WHY}")

@@ -1,0 +1,141 @@
+// End-to-end harness for the browser renderer: a real ddsimp-server on free loopback ports
+// serving the built page (--web-dir), and Debian's headless Chromium driven by playwright-core.
+//
+// Environment (set by tests/web/CMakeLists.txt):
+//   DDSIMP_SERVER    the ddsimp-server binary
+//   DDSIMP_WEB_DIST  the built page (vite build output)
+//   DDSIMP_WEB_SRC   web/ (its node_modules hold playwright-core and pngjs)
+//   DDSIMP_CHROMIUM  the browser (/usr/bin/chromium)
+import { spawn } from 'node:child_process';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import net from 'node:net';
+import os from 'node:os';
+import path from 'node:path';
+
+function required(name) {
+  const value = process.env[name];
+  if (!value) throw new Error(`${name} is not set (run these tests through ctest)`);
+  return value;
+}
+
+const webSrc = required('DDSIMP_WEB_SRC');
+const requireFromWeb = createRequire(path.join(webSrc, 'package.json'));
+export const { chromium } = requireFromWeb('playwright-core');
+export const { PNG } = requireFromWeb('pngjs');
+
+// How long a page may take to show what a test waits for. A limit on waiting, not a speed
+// claim: SwiftShader renders on the CPU of a shared machine.
+export const WAIT_MS = 60_000;
+
+export async function freePort() {
+  return new Promise((resolve, reject) => {
+    const server = net.createServer();
+    server.once('error', reject);
+    server.listen(0, '127.0.0.1', () => {
+      const { port } = server.address();
+      server.close(() => resolve(port));
+    });
+  });
+}
+
+async function accepts(port) {
+  return new Promise((resolve) => {
+    const socket = net.connect(port, '127.0.0.1');
+    socket.once('connect', () => {
+      socket.destroy();
+      resolve(true);
+    });
+    socket.once('error', () => resolve(false));
+  });
+}
+
+const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+
+// A ddsimp-server child with the built-in sample and the built page. `httpPort` may be given to
+// start a server again where an earlier one listened.
+export async function startServer({ extraArgs = [], httpPort, webDir } = {}) {
+  const dataDir = mkdtempSync(path.join(os.tmpdir(), 'ddsimp-web-test-'));
+  const port = await freePort();
+  httpPort ??= await freePort();
+  const args = ['--port', String(port), '--http-port', String(httpPort), '--data-dir', dataDir,
+    '--web-dir', webDir ?? required('DDSIMP_WEB_DIST'), '--log-level', 'warn', ...extraArgs];
+  const child = spawn(required('DDSIMP_SERVER'), args, { stdio: ['ignore', 'inherit', 'inherit'] });
+  let exited = null;
+  child.once('exit', (code, signal) => { exited = { code, signal }; });
+  for (let i = 0; i < 400 && !(await accepts(httpPort)); ++i) {
+    if (exited) throw new Error(`ddsimp-server exited at start: ${JSON.stringify(exited)}`);
+    await sleep(50);
+  }
+  if (!(await accepts(httpPort))) throw new Error('ddsimp-server did not listen');
+  return {
+    url: `http://127.0.0.1:${httpPort}`,
+    httpPort,
+    async stop() {
+      if (!exited) {
+        const gone = new Promise((resolve) => child.once('exit', resolve));
+        child.kill('SIGTERM');
+        await gone;
+      }
+      rmSync(dataDir, { recursive: true, force: true });
+    },
+  };
+}
+
+// Headless Chromium as the probe of this machine kind starts it (see README, "Tests"), with
+// WebGL on SwiftShader, and a fresh profile.
+export async function startBrowser() {
+  const profile = mkdtempSync(path.join(os.tmpdir(), 'ddsimp-web-chromium-'));
+  const context = await chromium.launchPersistentContext(profile, {
+    executablePath: required('DDSIMP_CHROMIUM'),
+    headless: true,
+    viewport: { width: 1000, height: 700 },
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  return {
+    context,
+    async newPage(url) {
+      const page = await context.newPage();
+      const errors = [];
+      page.on('pageerror', (e) => errors.push(e.message));
+      page.errors = errors;
+      await page.goto(url);
+      return page;
+    },
+    async close() {
+      await context.close();
+      rmSync(profile, { recursive: true, force: true });
+    },
+  };
+}
+
+// The number the page shows as its triangle count, or NaN before it shows one.
+export async function triangleCount(page) {
+  return Number.parseInt(await page.getByTestId('triangle-count').textContent(), 10);
+}
+
+// Waits until the triangle count satisfies `ok`; returns it.
+export async function waitForTriangles(page, ok, what) {
+  const deadline = Date.now() + WAIT_MS;
+  let n = NaN;
+  while (Date.now() < deadline) {
+    n = await triangleCount(page);
+    if (ok(n)) return n;
+    await sleep(100);
+  }
+  const status = await page.getByTestId('status').textContent();
+  const notice = await page.getByTestId('notice').textContent();
+  throw new Error(`the triangle count never became ${what} (last ${n}; status "${status}"; ` +
+    `notice "${notice}"; page errors ${JSON.stringify(page.errors)})`);
+}
+
+// Sets a range input as a user would end a drag: the value, then input and change events.
+export async function setRange(page, testId, value) {
+  await page.getByTestId(testId).evaluate((input, v) => {
+    input.value = String(v);
+    input.dispatchEvent(new Event('input', { bubbles: true }));
+    input.dispatchEvent(new Event('change', { bubbles: true }));
+  }, value);
+}
