@@ -10,12 +10,17 @@ packages=(
     openmpi-bin libopenmpi-dev
     yamllint shellcheck
     python3-matplotlib python3-vtk9 xvfb xauth
+    chromium  # tests/web: the browser renderer's end-to-end tests (headless)
 )
 
 missing=()
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# Node.js and npm build the browser renderer (web/). Node.js may come from elsewhere already
+# (NodeSource's nodejs bundles npm and conflicts with Debian's npm package).
+command -v node >/dev/null || missing+=(nodejs)
+command -v npm >/dev/null || missing+=(npm)
 [[ ${#missing[@]} -eq 0 ]] && exit 0
 
 echo "installing: ${missing[*]}"
