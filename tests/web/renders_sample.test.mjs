@@ -2,7 +2,8 @@
 // refined to the level asked for.
 import assert from 'node:assert/strict';
 import { after, before, test } from 'node:test';
-import { PNG, setRange, startBrowser, startServer, waitForTriangles } from './harness.mjs';
+import { PNG, setRange, startBrowser, startServer, waitForTriangles, WAIT_MS }
+  from './harness.mjs';
 
 // matplotlib 3.6's viridis at i/8 (an independent source: `matplotlib.colormaps['viridis']`).
 const VIRIDIS_9 = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962',
@@ -82,4 +83,23 @@ test('the sample appears in the colour map, refined level by level', async () =>
   assert.ok(onCurve > 0.8 * surface, `${onCurve} of ${surface} surface pixels are viridis colours`);
   assert.ok(pieces.size >= 5, `colours from ${pieces.size} of the colour map's 8 pieces`);
   assert.deepEqual(page.errors, []);
+});
+
+test('"Enter VR" is offered exactly where immersive-vr is supported', async () => {
+  // Headless Chromium has no VR device: no button.
+  const plain = await browser.newPage(`${server.url}/`);
+  await waitForTriangles(plain, (n) => n > 0, 'shown');
+  assert.equal(await plain.getByTestId('enter-vr').count(), 0);
+
+  // A browser that reports immersive-vr (a stand-in for a headset's browser): the button.
+  const page = await browser.context.newPage();
+  await page.addInitScript(() => {
+    Object.defineProperty(navigator, 'xr', { value: {
+      isSessionSupported: async (mode) => mode === 'immersive-vr',
+      requestSession: async () => { throw new Error('no headset in a test'); },
+      addEventListener() {}, removeEventListener() {},
+    } });
+  });
+  await page.goto(`${server.url}/`);
+  await page.getByTestId('enter-vr').filter({ hasText: /ENTER VR/ }).waitFor({ timeout: WAIT_MS });
 });

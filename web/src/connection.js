@@ -7,7 +7,8 @@ const ErrorCode = enumValues('Error.Code');
 // The capabilities this page uses. meshopt-codec: levels arrive through meshoptimizer's codecs,
 // about 1.5-2x smaller than raw, which matters on the links a browser is usually on (see README,
 // "Is meshoptimizer's codec worth it?"); decoding is meshoptimizer's own WebAssembly decoder.
-const CAPABILITIES = ['meshopt-codec', 'progressive', 'sessions'];
+// session-keys: a session joined with ?key= is private to those who know the key.
+const CAPABILITIES = ['meshopt-codec', 'progressive', 'sessions', 'session-keys'];
 const RETRY_SECONDS = [1, 2, 4, 8, 10];
 const PING_SECONDS = 30;
 

@@ -1,9 +1,10 @@
 // The page: connects to the server that served it, shows a surface coloured by a field, and
 // keeps the controls, the mesh and (with ?session=NAME) a shared session in step.
 //
-// URL parameters: session=NAME (join or create that session), token=T (when the server needs
-// one), surface=ID (instead of the first listed: the built-in sample on a fresh server),
-// coarse=N (triangles of the coarsest preview level, 2000 by default).
+// URL parameters: session=NAME (join or create that session), key=K (the session's key, on
+// servers that have session keys), token=T (when the server needs one), surface=ID (instead of
+// the first listed: the built-in sample on a fresh server), coarse=N (triangles of the coarsest
+// preview level, 2000 by default).
 import './style.css';
 import { drawLegend, formatValue, viridis } from './colormap.js';
 import { ServerConnection } from './connection.js';
@@ -18,6 +19,7 @@ const MAX_PREVIEW_LEVELS = 4;
 
 const params = new URLSearchParams(location.search);
 const sessionName = params.get('session') ?? '';
+const sessionKey = params.get('key') ?? '';
 const coarseTriangles = Math.max(1, Number(params.get('coarse')) || 2000);
 
 const $ = (id) => document.getElementById(id);
@@ -115,7 +117,13 @@ function onSurfaceList(m) {
   ui.surface.value = state.view.surface;
   fillFields();
   if (sessionName) {
-    connection.send('JoinSession', { name: sessionName });
+    if (sessionKey && !connection.welcome.capabilities.includes('session-keys')) {
+      // Joining without the key would put this page in the public session of that name.
+      notice('This server has no session keys (?key=): the page does not join the session.');
+      return;
+    }
+    connection.send('JoinSession', sessionKey ? { name: sessionName, key: sessionKey } :
+      { name: sessionName });
   } else {
     requestMesh();
   }
@@ -453,6 +461,7 @@ slider(ui.level, 'keep');
 ui.field.addEventListener('change', () => change({ field: ui.field.value }));
 ui.surface.addEventListener('change', () => change({ surface: ui.surface.value }));
 ui.strategy.addEventListener('change', () => change({ strategy: Number(ui.strategy.value) }));
+$('edges').addEventListener('change', (e) => viewer.showEdges(e.target.checked));
 ui.strategy.replaceChildren(new Option('edge collapse', String(Strategy.EDGE_COLLAPSE)),
   new Option('vertex removal', String(Strategy.VERTEX_REMOVAL)));
 showControls();

@@ -38,6 +38,10 @@ export class Viewer {
     this.scene.add(this.model);
     this.material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
     this.mesh = null;
+    // The triangles' edges, drawn over the surface on demand (to see what simplification did).
+    this.edges = new THREE.Mesh(undefined, new THREE.MeshBasicMaterial({
+      color: 0x000000, wireframe: true, transparent: true, opacity: 0.35 }));
+    this.edges.visible = false;
     this.frame = null; // { centre, radius } of the surface being shown
 
     this.renderer.xr.addEventListener('sessionstart', () => this.placeModel(true));
@@ -93,8 +97,9 @@ export class Viewer {
       this.mesh.geometry = geometry;
     } else {
       this.mesh = new THREE.Mesh(geometry, this.material);
-      this.model.add(this.mesh);
+      this.model.add(this.mesh, this.edges);
     }
+    this.edges.geometry = geometry;
     if (this.frameKey !== surfaceKey) {
       this.frameKey = surfaceKey;
       const s = geometry.boundingSphere;
@@ -110,12 +115,8 @@ export class Viewer {
     this.mesh.geometry.setAttribute('color', new THREE.BufferAttribute(colours, 3));
   }
 
-  clear() {
-    if (!this.mesh) return;
-    this.model.remove(this.mesh);
-    this.mesh.geometry.dispose();
-    this.mesh = null;
-    this.frameKey = null;
+  showEdges(on) {
+    this.edges.visible = on;
   }
 
   placeModel(inVR) {
