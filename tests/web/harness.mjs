@@ -12,6 +12,7 @@ import { createRequire } from 'node:module';
 import net from 'node:net';
 import os from 'node:os';
 import path from 'node:path';
+import { after, before } from 'node:test';
 
 function required(name) {
   const value = process.env[name];
@@ -138,4 +139,19 @@ export async function setRange(page, testId, value) {
     input.dispatchEvent(new Event('input', { bubbles: true }));
     input.dispatchEvent(new Event('change', { bubbles: true }));
   }, value);
+}
+
+// For the tests of one file: a server (started with `serverOptions`) and a browser, started
+// before the first test and stopped after the last. A test may replace `env.server`.
+export function serverAndBrowser(serverOptions = {}) {
+  const env = {};
+  before(async () => {
+    env.server = await startServer(serverOptions);
+    env.browser = await startBrowser();
+  });
+  after(async () => {
+    await env.browser?.close();
+    await env.server?.stop();
+  });
+  return env;
 }

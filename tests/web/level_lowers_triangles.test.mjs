@@ -1,23 +1,15 @@
 // A lower level shows fewer triangles; the page authenticates with ?token= and says so when
 // the token is missing.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
-import { setRange, startBrowser, startServer, triangleCount, waitForTriangles, WAIT_MS }
-  from './harness.mjs';
+import { test } from 'node:test';
+import {
+  serverAndBrowser, setRange, triangleCount, WAIT_MS, waitForTriangles,
+} from './harness.mjs';
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer({ extraArgs: ['--token', 's3cret'] });
-  browser = await startBrowser();
-});
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-});
+const env = serverAndBrowser({ extraArgs: ['--token', 's3cret'] });
 
 test('lowering the level lowers the triangle count', async () => {
-  const page = await browser.newPage(`${server.url}/?token=s3cret`);
+  const page = await env.browser.newPage(`${env.server.url}/?token=s3cret`);
   const before = await waitForTriangles(page, (n) => n > 300, 'shown');
   await setRange(page, 'level', 0.1);
   // floor(0.1 * 756) = 75 triangles at most.
@@ -28,7 +20,7 @@ test('lowering the level lowers the triangle count', async () => {
 });
 
 test('without the token the page says that it needs one', async () => {
-  const page = await browser.newPage(`${server.url}/`);
+  const page = await env.browser.newPage(`${env.server.url}/`);
   const status = page.getByTestId('status');
   await status.filter({ hasText: /needs a token/ }).waitFor({ timeout: WAIT_MS });
   assert.equal(await status.getAttribute('data-state'), 'failed');

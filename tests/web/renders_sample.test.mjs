@@ -1,9 +1,8 @@
 // The page shows the server's built-in sample coloured by the colour map, coarse first and
 // refined to the level asked for.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
-import { PNG, setRange, startBrowser, startServer, waitForTriangles, WAIT_MS }
-  from './harness.mjs';
+import { test } from 'node:test';
+import { PNG, serverAndBrowser, setRange, WAIT_MS, waitForTriangles } from './harness.mjs';
 
 // matplotlib 3.6's viridis at i/8 (an independent source: `matplotlib.colormaps['viridis']`).
 const VIRIDIS_9 = ['#440154', '#472d7b', '#3b528b', '#2c728e', '#21918c', '#28ae80', '#5ec962',
@@ -28,20 +27,11 @@ function nearestOnCurve(rgb) {
   return best;
 }
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer();
-  browser = await startBrowser();
-});
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-});
+const env = serverAndBrowser();
 
 test('the sample appears in the colour map, refined level by level', async () => {
   // coarse=100: even this small sample arrives as a coarse level plus refinements.
-  const page = await browser.newPage(`${server.url}/?coarse=100`);
+  const page = await env.browser.newPage(`${env.server.url}/?coarse=100`);
   // The default level is half the triangles: floor(0.5 * 756) = 378 at most, and an edge
   // collapse removes at most two, so at least 376.
   const half = await waitForTriangles(page, (n) => n >= 376 && n <= 378, 'about half of 756');
@@ -87,12 +77,12 @@ test('the sample appears in the colour map, refined level by level', async () =>
 
 test('"Enter VR" is offered exactly where immersive-vr is supported', async () => {
   // Headless Chromium has no VR device: no button.
-  const plain = await browser.newPage(`${server.url}/`);
+  const plain = await env.browser.newPage(`${env.server.url}/`);
   await waitForTriangles(plain, (n) => n > 0, 'shown');
   assert.equal(await plain.getByTestId('enter-vr').count(), 0);
 
   // A browser that reports immersive-vr (a stand-in for a headset's browser): the button.
-  const page = await browser.context.newPage();
+  const page = await env.browser.context.newPage();
   await page.addInitScript(() => {
     Object.defineProperty(navigator, 'xr', { value: {
       isSessionSupported: async (mode) => mode === 'immersive-vr',
@@ -100,6 +90,6 @@ test('"Enter VR" is offered exactly where immersive-vr is supported', async () =
       addEventListener() {}, removeEventListener() {},
     } });
   });
-  await page.goto(`${server.url}/`);
+  await page.goto(`${env.server.url}/`);
   await page.getByTestId('enter-vr').filter({ hasText: /ENTER VR/ }).waitFor({ timeout: WAIT_MS });
 });

@@ -1,18 +1,9 @@
 // Two pages in one session: what one changes, the other shows, controls included.
 import assert from 'node:assert/strict';
-import { after, before, test } from 'node:test';
-import { setRange, startBrowser, startServer, waitForTriangles, WAIT_MS } from './harness.mjs';
+import { test } from 'node:test';
+import { serverAndBrowser, setRange, WAIT_MS, waitForTriangles } from './harness.mjs';
 
-let server;
-let browser;
-before(async () => {
-  server = await startServer();
-  browser = await startBrowser();
-});
-after(async () => {
-  await browser?.close();
-  await server?.stop();
-});
+const env = serverAndBrowser();
 
 async function waitForValue(page, testId, value) {
   const deadline = Date.now() + WAIT_MS;
@@ -26,9 +17,9 @@ async function waitForValue(page, testId, value) {
 }
 
 test('a second page in the session follows the first', async () => {
-  const first = await browser.newPage(`${server.url}/?session=e2e`);
+  const first = await env.browser.newPage(`${env.server.url}/?session=e2e`);
   await waitForTriangles(first, (n) => n > 0, 'shown on the first page');
-  const second = await browser.newPage(`${server.url}/?session=e2e`);
+  const second = await env.browser.newPage(`${env.server.url}/?session=e2e`);
   const shared = await waitForTriangles(second, (n) => n > 0, 'shown on the second page');
   assert.equal(shared, await waitForTriangles(first, (n) => n > 0, 'shown'));
   await second.getByTestId('session').filter({ hasText: /2 members/ }).waitFor({ timeout: WAIT_MS });
