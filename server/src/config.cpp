@@ -8,12 +8,16 @@
 #ifndef DDSIMP_DEFAULT_SAMPLE
 #define DDSIMP_DEFAULT_SAMPLE ""
 #endif
+#ifndef DDSIMP_DEFAULT_WEB_DIR
+#define DDSIMP_DEFAULT_WEB_DIR ""
+#endif
 
 namespace ddsimp::server {
 
 Config parse_config(int argc, char** argv) {
     Config c;
     c.sample = DDSIMP_DEFAULT_SAMPLE;
+    c.web_dir = DDSIMP_DEFAULT_WEB_DIR;
     CLI::App app{"ddsimp-server: data-dependent surface simplification as a service"};
     app.set_version_flag("--version", "ddsimp-server 0.1.0");
     app.set_config("--config", "", "read options from an INI file (key = value)");
@@ -32,7 +36,7 @@ Config parse_config(int argc, char** argv) {
     opt("--tls-key", c.tls_key, "TLS private key (PEM)");
     opt("--threads", c.threads, "simplification threads")->check(CLI::Range(1, 256));
     opt("--cache-mb", c.cache_mb, "memory for cached results (MiB)");
-    opt("--web-dir", c.web_dir, "the browser renderer's files, served at /");
+    opt("--web-dir", c.web_dir, "the browser renderer's built files, served at / (\"\" for none)");
     opt("--sample", c.sample, "a surface file loaded at start (\"\" for none)");
     opt("--max-frame-bytes", c.max_frame_bytes, "largest accepted frame");
     opt("--max-surface-triangles", c.max_surface_triangles, "largest accepted upload");
