@@ -43,6 +43,8 @@ const state = {
   changeStarted: performance.now(), // when the view last changed, for "the time it took"
   waiting: false,
   session: null, // the last SessionState
+  joined: false, // JoinSession sent on this connection
+  relisted: '', // the session surface the list was last read again for
   clientId: 0,
 };
 
@@ -56,6 +58,7 @@ const connection = new ServerConnection(wsUrl, {
     onStatus: showStatus,
     onReady: (welcome) => {
       state.clientId = welcome.client_id;
+      state.joined = false; // a new connection is in no session yet
       connection.send('ListSurfaces', {});
     },
     onMessage: handle,
@@ -116,7 +119,9 @@ function onSurfaceList(m) {
   if (!surfaceInfo(state.view.surface)) state.view.surface = m.surfaces[0].surface;
   ui.surface.value = state.view.surface;
   fillFields();
-  if (sessionName) {
+  if (sessionName && state.joined) {
+    if (state.session) onSessionState(state.session); // the list it waited for
+  } else if (sessionName) {
     if (sessionKey && !connection.welcome.capabilities.includes('session-keys')) {
       // Joining without the key would put this page in the public session of that name.
       notice('This server has no session keys (?key=): the page does not join the session.');
@@ -124,6 +129,7 @@ function onSurfaceList(m) {
     }
     connection.send('JoinSession', sessionKey ? { name: sessionName, key: sessionKey } :
       { name: sessionName });
+    state.joined = true;
   } else {
     requestMesh();
   }
@@ -165,8 +171,12 @@ function onSessionState(m) {
     return;
   }
   if (!surfaceInfo(v.surface)) {
-    // Uploaded since the list was read.
-    state.view.surface = v.surface;
+    // Uploaded since the list was read: read it again, then take this state (once).
+    if (state.relisted === v.surface) {
+      notice(`The session shows surface ${v.surface}, which this server does not list.`);
+      return;
+    }
+    state.relisted = v.surface;
     connection.send('ListSurfaces', {});
     return;
   }
