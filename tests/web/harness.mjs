@@ -21,7 +21,7 @@ function required(name) {
 }
 
 const webSrc = required('DDSIMP_WEB_SRC');
-const requireFromWeb = createRequire(path.join(webSrc, 'package.json'));
+export const requireFromWeb = createRequire(path.join(webSrc, 'package.json'));
 export const { chromium } = requireFromWeb('playwright-core');
 export const { PNG } = requireFromWeb('pngjs');
 
@@ -71,6 +71,7 @@ export async function startServer({ extraArgs = [], httpPort, webDir } = {}) {
   if (!(await accepts(httpPort))) throw new Error('ddsimp-server did not listen');
   return {
     url: `http://127.0.0.1:${httpPort}`,
+    port,
     httpPort,
     async stop() {
       if (!exited) {

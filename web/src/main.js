@@ -37,6 +37,8 @@ const state = {
     strategy: Strategy.EDGE_COLLAPSE },
   mesh: new MeshState(),
   meshSurface: '', // the surface the mesh shown belongs to
+  meshBegin: null, // the MeshBegin of the last level applied
+  meshPending: false, // applied, but its surface is not listed yet
   incoming: null, // { begin, level: IncomingLevel | null (ignored) }
   request: null, // this page's own request (without a session)
   nextRequestId: 1,
@@ -121,6 +123,7 @@ function onSurfaceList(m) {
   fillFields();
   if (sessionName && state.joined) {
     if (state.session) onSessionState(state.session); // the list it waited for
+    if (state.meshPending && surfaceInfo(state.meshSurface)) showMesh();
   } else if (sessionName) {
     if (sessionKey && !connection.welcome.capabilities.includes('session-keys')) {
       // Joining without the key would put this page in the public session of that name.
@@ -177,6 +180,7 @@ function onSessionState(m) {
       return;
     }
     state.relisted = v.surface;
+    if (!state.waiting) startWaiting();
     connection.send('ListSurfaces', {});
     return;
   }
@@ -274,9 +278,20 @@ function onMeshEnd(m) {
     return;
   }
   if (state.request) ++state.request.applied;
-  const surface = sessionName ? state.view.surface : state.request.surface;
-  state.meshSurface = surface;
-  display(surface, begin);
+  // The server says which surface this is; a server older than MeshBegin.surface does not, and
+  // then it is the one asked for, or the session's.
+  state.meshSurface = begin.surface ||
+    (sessionName ? state.session?.view.surface ?? state.view.surface : state.request.surface);
+  state.meshBegin = begin;
+  // A surface uploaded a moment ago is shown once the list that names it has come.
+  state.meshPending = !surfaceInfo(state.meshSurface);
+  if (!state.meshPending) showMesh();
+}
+
+function showMesh() {
+  const begin = state.meshBegin;
+  state.meshPending = false;
+  display(state.meshSurface, begin);
   const lastLevel = sessionName || state.request.applied === state.request.levels;
   if (lastLevel) finishWaiting(begin);
   else showTransfer0();
