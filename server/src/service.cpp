@@ -277,6 +277,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
                 b.set_seconds(computed ? rec->seconds : 0);
                 b.set_cached(!computed);
                 b.set_result(key);
+                b.set_surface(params.surface);
                 return b;
             };
             if (!progressive) {
@@ -462,6 +463,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
                 begin.set_target_reached(level->target_reached);
                 begin.set_seconds(seconds);
                 begin.set_result(key);
+                begin.set_surface(params.surface);
                 BulkItem item;
                 item.session = name;
                 item.begin_frame = protocol::encode_frame(begin);

@@ -98,6 +98,7 @@ TEST_F(Server, LevelsEqualTheOfflineResultCoarsestFirst) {
         for (int i = 0; i < 3; ++i) {
             const RawClient::Level l = c.level();
             EXPECT_EQ(l.begin.request_id(), rid);
+            EXPECT_EQ(l.begin.surface(), id);
             EXPECT_EQ(l.begin.encoding(), encoding);
             EXPECT_EQ(l.bytes.size(), l.begin.total_bytes());
             order.push_back(l.begin.keep());
@@ -356,6 +357,7 @@ TEST_F(Server, SessionsBroadcastHandOverAndCatchUpLateJoiners) {
         EXPECT_EQ(st.view().surface(), id);
         const RawClient::Level l = c->level();
         EXPECT_EQ(l.begin.session(), "lab");
+        EXPECT_EQ(l.begin.surface(), id);
         Surface got = protocol::decode_mesh(l.bytes, protocol::layout_of(l.begin));
         const Surface expected = offline(s, 0.3f, 0.2f, Strategy::EdgeCollapse);
         rotate_to_match(got, expected); // both clients asked for the meshopt codec
