@@ -9,6 +9,7 @@ packages=(
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
     yamllint shellcheck
+    clang libclang-rt-14-dev llvm  # tests/fuzz/run.sh: libFuzzer and llvm-symbolizer
     python3-matplotlib python3-vtk9 xvfb xauth
     chromium  # tests/web: the browser renderer's end-to-end tests (headless)
 )

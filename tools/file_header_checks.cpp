@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -9,9 +10,15 @@ namespace ddsimp::io {
 
 namespace {
 
+// Larger element counts or property lists than any file can hold, refused before the sizes they
+// imply are added up (so that the sums cannot wrap around).
+constexpr size_t kMaxCount = size_t(1) << 40;
+constexpr size_t kMaxProperties = 1 << 12;
+
 // Skips "# ..." comment lines between tokens.
 bool next_token(std::istream& in, std::string& token) {
-    while (in >> std::ws && in.peek() == '#') in.ignore(SIZE_MAX, '\n');
+    while (in >> std::ws && in.peek() == '#')
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
     return bool(in >> token);
 }
 
@@ -95,8 +102,10 @@ std::string check_off(std::istream& in) {
     if (!next_token(in, nv) || !next_token(in, nf) || !next_token(in, ne)) return "";
     if (nv == "BINARY" || nf == "BINARY") return ""; // binary OFF: not checked
     const size_t vertices = std::stoull(nv), faces = std::stoull(nf);
-    // At least x y z per vertex and "3 a b c" per face; variants only add tokens.
-    if (count_tokens(in) < 3 * vertices + 4 * faces) return ends_early(vertices, faces);
+    // At least x y z per vertex and "3 a b c" per face; variants only add tokens. (Counts this
+    // large cannot be in any file; checked so that the sum does not wrap around.)
+    if (vertices > kMaxCount || faces > kMaxCount || count_tokens(in) < 3 * vertices + 4 * faces)
+        return ends_early(vertices, faces);
     return "";
 }
 
@@ -106,6 +115,9 @@ std::string check_ply(std::istream& in, std::streamoff file_size) {
     size_t vertices = 0, faces = 0, least_tokens = 0, least_bytes = 0;
     bool sizes_known = true;
     for (const PlyElement& e : header->elements) {
+        if (e.count > kMaxCount || e.scalar_properties + e.lists > kMaxProperties)
+            return ends_early(e.name == "vertex" ? e.count : vertices,
+                              e.name == "face" ? e.count : faces);
         if (e.name == "vertex") vertices = e.count;
         if (e.name == "face") faces = e.count;
         const size_t per_list_tokens = e.name == "face" ? 4 : 1; // "3 a b c"; else just a count

@@ -144,6 +144,10 @@ public:
 
 Surface read_openmesh_file(const std::string& path, const std::string& extension) {
     const std::string context = "cannot read " + path;
+    // The header check first: its message says more than the reader's failure, and OpenMesh's
+    // readers trust a header's counts.
+    if (std::string problem = check_file_body(path, extension); !problem.empty())
+        throw IoError(context + ": " + problem);
     TriMesh mesh;
     SurfaceImporter importer(mesh);
     OpenMesh::IO::Options options = OpenMesh::IO::Options::Custom; // PLY vertex properties
@@ -152,9 +156,6 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
         QuietOpenMesh quiet;
         ok = OpenMesh::IO::IOManager().read(path, importer, options);
     }
-    // The header check first: its message says more than the reader's failure.
-    if (std::string problem = check_file_body(path, extension); !problem.empty())
-        throw IoError(context + ": " + problem);
     if (!ok)
         throw IoError(context + ": OpenMesh's " + extension + " reader failed (malformed file?)");
     if (auto polygon = importer.first_polygon())

@@ -1,6 +1,7 @@
 #include "vtk_files.h"
 
 #include "surface_io.h"
+#include "vtk_legacy_checks.h"
 #include "vtk_messages.h"
 #include "vtk_surface.h"
 
@@ -29,6 +30,8 @@ vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path) {
 namespace {
 
 Surface read_legacy(const std::string& path, const std::string& context) {
+    if (const std::string problem = check_legacy_vtk_cells(path); !problem.empty())
+        throw IoError(context + ": " + problem);
     VtkMessageCapture messages;
     auto reader = legacy_reader(path);
     reader->Update();

@@ -2,6 +2,7 @@
 
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cstring>
 #include <numeric>
 
@@ -35,13 +36,36 @@ uint64_t append_vertex_stream(std::string& out, const float* data, size_t count,
     return out.size() - before;
 }
 
+// memcpy of a section (which may be empty, and then `out` may be null).
+void copy_section(void* out, std::string_view section) {
+    if (!section.empty()) std::memcpy(out, section.data(), section.size());
+}
+
+// The fewest bytes meshopt's vertex codec (version 0) encodes `count` vertices of `size` bytes in:
+// a header byte, per block and byte of a vertex at least one 2-bit header per 16 vertices (so per
+// 64 vertices a byte), and the tail. Checked before the vertices are allocated, so that a short
+// section cannot make the decoder allocate more than 64 times what arrived.
+uint64_t min_meshopt_vertex_bytes(uint64_t count, uint64_t size) {
+    return 1 + size * ((count + 63) / 64) + std::max<uint64_t>(32, size);
+}
+
+// Throws unless `section` can hold `count` vertices of `size` bytes (before they are allocated).
+void check_vertex_section(std::string_view section, uint64_t count, uint64_t size, bool meshopt,
+                          const std::string& what) {
+    if (!meshopt && section.size() != count * size)
+        throw BlobError(what + ": " + std::to_string(section.size()) + " bytes, expected " +
+                        std::to_string(count * size));
+    if (meshopt && section.size() < min_meshopt_vertex_bytes(count, size))
+        throw BlobError(what + ": " + std::to_string(section.size()) +
+                        " bytes, too few for a meshopt vertex stream of " + std::to_string(count) +
+                        " vertices");
+}
+
+// Decodes a section that check_vertex_section accepted.
 void read_vertex_stream(std::string_view section, float* out, size_t count, size_t size,
                         bool meshopt, const std::string& what) {
     if (!meshopt) {
-        if (section.size() != count * size)
-            throw BlobError(what + ": " + std::to_string(section.size()) + " bytes, expected " +
-                            std::to_string(count * size));
-        std::memcpy(out, section.data(), section.size());
+        copy_section(out, section);
     } else if (meshopt_decodeVertexBuffer(out, count, size,
                                           reinterpret_cast<const unsigned char*>(section.data()),
                                           section.size()) != 0) {
@@ -68,6 +92,9 @@ void check_fields(const BlobLayout& layout, const DecodeLimits& limits) {
                             " allowed)");
     if (layout.encoding != v1::RAW && layout.encoding != v1::MESHOPT)
         throw BlobError("unknown encoding " + std::to_string(int(layout.encoding)));
+    // The codec itself does not check (it would overrun a 256-byte buffer).
+    if (layout.encoding == v1::MESHOPT && !codec_holds(layout.fields))
+        throw BlobError("a meshopt blob with a field of more than 64 components");
     if (layout.section_bytes.size() != 2 + layout.fields.size())
         throw BlobError(std::to_string(layout.section_bytes.size()) + " sections, expected " +
                         std::to_string(2 + layout.fields.size()));
@@ -93,6 +120,11 @@ std::vector<std::string_view> sections_of(std::string_view bytes, const BlobLayo
 Surface decode_vertices(const std::vector<std::string_view>& sections, size_t field_section,
                         const BlobLayout& layout) {
     const bool meshopt = layout.encoding == v1::MESHOPT;
+    check_vertex_section(sections[0], layout.vertex_count, 12, meshopt, "positions");
+    for (size_t f = 0; f < layout.fields.size(); ++f)
+        check_vertex_section(sections[field_section + f], layout.vertex_count,
+                             4 * uint64_t(layout.fields[f].components), meshopt,
+                             "field \"" + layout.fields[f].name + "\"");
     Surface s;
     s.positions.resize(3 * layout.vertex_count);
     read_vertex_stream(sections[0], s.positions.data(), layout.vertex_count, 12, meshopt,
@@ -181,10 +213,15 @@ Surface decode_mesh(std::string_view bytes, const BlobLayout& layout, const Deco
         throw BlobError("the section sizes do not match " + std::to_string(layout.vertex_count) +
                         " vertices and " + std::to_string(layout.triangle_count) + " triangles");
 
+    // meshopt's index codec takes at least a byte per triangle, a header and a 16-byte table.
+    if (layout.encoding == v1::MESHOPT && sections[1].size() < 17 + layout.triangle_count)
+        throw BlobError("triangles: " + std::to_string(sections[1].size()) +
+                        " bytes, too few for a meshopt index stream of " +
+                        std::to_string(layout.triangle_count) + " triangles");
     Surface s = decode_vertices(sections, 2, layout);
     s.triangles.resize(3 * layout.triangle_count);
     if (layout.encoding == v1::RAW) {
-        std::memcpy(s.triangles.data(), sections[1].data(), sections[1].size());
+        copy_section(s.triangles.data(), sections[1]);
     } else if (meshopt_decodeIndexBuffer(s.triangles.data(), s.triangles.size(), 4,
                                          reinterpret_cast<const unsigned char*>(sections[1].data()),
                                          sections[1].size()) != 0) {
@@ -233,7 +270,7 @@ Refinement decode_refinement(std::string_view bytes, const BlobLayout& layout,
     Refinement r;
     r.new_vertices = decode_vertices(sections, 2, layout);
     r.writes.resize(4 * layout.triangle_count);
-    std::memcpy(r.writes.data(), sections[1].data(), sections[1].size());
+    copy_section(r.writes.data(), sections[1]);
     return r;
 }
 

@@ -1,0 +1,96 @@
+#include "vtk_legacy_checks.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cstdint>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+namespace ddsimp::io {
+namespace {
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return s;
+}
+
+bool is_cell_keyword(const std::string& word) {
+    return word == "vertices" || word == "lines" || word == "polygons" ||
+           word == "triangle_strips" || word == "cells";
+}
+
+// The integers of one cell array, read one at a time (ASCII tokens or big-endian int32).
+class IntReader {
+public:
+    IntReader(std::istream& in, bool binary) : in_(in), binary_(binary) {}
+
+    std::optional<int64_t> next() {
+        if (!binary_) {
+            long long v = 0;
+            if (!(in_ >> v)) return std::nullopt;
+            return v;
+        }
+        std::array<unsigned char, 4> b{};
+        if (!in_.read(reinterpret_cast<char*>(b.data()), 4)) return std::nullopt;
+        return int32_t(uint32_t(b[0]) << 24 | uint32_t(b[1]) << 16 | uint32_t(b[2]) << 8 |
+                       uint32_t(b[3]));
+    }
+
+private:
+    std::istream& in_;
+    bool binary_;
+};
+
+// Walks the `size` integers of an array of `cells` cells; "" if they hold them exactly.
+std::string walk_cells(IntReader& ints, const std::string& keyword, int64_t cells, int64_t size) {
+    const std::string what = keyword + " " + std::to_string(cells) + " " + std::to_string(size);
+    int64_t at = 0;
+    for (int64_t c = 0; c < cells; ++c) {
+        if (at >= size) return what + ": the array ends before cell " + std::to_string(c);
+        const std::optional<int64_t> count = ints.next();
+        if (!count) return what + ": the file ends in cell " + std::to_string(c);
+        if (*count < 0 || *count > size - at - 1)
+            return what + ": cell " + std::to_string(c) + " has " + std::to_string(*count) +
+                   " points, more than the array holds";
+        for (int64_t i = 0; i < *count; ++i)
+            if (!ints.next()) return what + ": the file ends in cell " + std::to_string(c);
+        at += 1 + *count;
+    }
+    if (at != size)
+        return what + ": the cells take " + std::to_string(at) + " of the " + std::to_string(size) +
+               " numbers";
+    return "";
+}
+
+} // namespace
+
+std::string check_legacy_vtk_cells(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    // "# vtk DataFile Version x.y", a title, ASCII or BINARY; VTK itself reports a bad header.
+    std::string version, title, type;
+    if (!std::getline(in, version) || !std::getline(in, title) || !std::getline(in, type))
+        return "";
+    if (version.find("Version 5") != std::string::npos) return ""; // offsets and connectivity
+    const bool binary = lower(type).rfind("binary", 0) == 0;
+    IntReader ints(in, binary);
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        std::string keyword, extra;
+        int64_t cells = 0, size = 0;
+        if (!(words >> keyword) || !is_cell_keyword(lower(keyword))) continue;
+        if (!(words >> cells >> size) || (words >> extra)) continue; // not a cell array line
+        if (cells < 0 || size < 0)
+            return keyword + ": " + std::to_string(cells) + " cells in " + std::to_string(size) +
+                   " numbers";
+        if (std::string problem = walk_cells(ints, keyword, cells, size); !problem.empty())
+            return problem;
+    }
+    return "";
+}
+
+} // namespace ddsimp::io

@@ -1,0 +1,15 @@
+// Checks of a legacy .vtk file that VTK's reader does not make before it trusts the file.
+#pragma once
+
+#include <string>
+
+namespace ddsimp::io {
+
+// Legacy files (before format 5.1) list cells as one array of counts and ids: "POLYGONS n size"
+// (or VERTICES, LINES, TRIANGLE_STRIPS, CELLS), then `size` integers, for each of the n cells its
+// point count and that many point ids. VTK 9.1 walks that array without checking the counts
+// against its length, so a wrong count reads past the end (a crash, not an error). Returns "" if
+// every such array holds its cells, else what is wrong ("POLYGONS: cell 3 has -7 points").
+std::string check_legacy_vtk_cells(const std::string& path);
+
+} // namespace ddsimp::io
