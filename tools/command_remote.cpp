@@ -23,6 +23,10 @@ void add_remote_options(CLI::App& app, RemoteArgs& args) {
         ->check(CLI::ExistingFile);
     app.add_flag("--tls-insecure", args.tls_insecure,
                  "With --tls: accept any certificate (self-signed test servers only)");
+    app.add_option("--session-key", args.session_key,
+                   "With --session: the session's key; only those who give it join the session "
+                   "and see its surfaces")
+        ->envname("DDSIMP_SESSION_KEY");
 }
 
 void connect_remote(Client& client, const RemoteArgs& args) {
@@ -84,6 +88,8 @@ int run_upload(const UploadArgs& args) {
         Client client;
         connect_remote(client, args.remote);
         const std::string name = std::filesystem::path(args.input).filename().string();
+        // A surface uploaded into a session is visible to its members only; members upload.
+        if (!args.session.empty()) client.join_session(args.session, args.remote.session_key);
         const UploadResult r = client.upload(surface, name, args.session);
         print_json_line({{"surface", r.surface},
                          {"triangles", r.triangles},
@@ -119,7 +125,8 @@ Command add_remote_upload(CLI::App& remote) {
     CLI::App* sub = remote.add_subcommand("upload", "Send a surface to the server");
     sub->add_option("input", args->input, "Surface file (.vtk .vtp .ply .obj .off .stl)")
         ->required();
-    sub->add_option("--session", args->session, "Show it in this session");
+    sub->add_option("--session", args->session,
+                    "Show it in this session, and to its members only (joins it)");
     add_remote_options(*sub, args->remote);
     return {sub, [args] { return run_upload(*args); }};
 }

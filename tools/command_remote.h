@@ -21,9 +21,10 @@ struct RemoteArgs {
     bool tls = false;
     std::string tls_ca;
     bool tls_insecure = false;
+    std::string session_key; // with --session: the session's key (see Client::join_session)
 };
 
-// Adds --server, --token, --tls, --tls-ca and --tls-insecure to `app`.
+// Adds --server, --token, --tls, --tls-ca, --tls-insecure and --session-key to `app`.
 void add_remote_options(CLI::App& app, RemoteArgs& args);
 
 // A client connected as `args` say; throws UsageError for a bad --server, io::IoError for a

@@ -56,7 +56,7 @@ int run_watch(const WatchArgs& args) {
         g_interrupted = false;
         std::signal(SIGINT, on_interrupt);
         std::signal(SIGTERM, on_interrupt);
-        client.join_session(args.session); // its state is the first event
+        client.join_session(args.session, args.remote.session_key); // its state is the first event
         size_t events = 0, meshes = 0;
         while (!g_interrupted && (args.count == 0 || events < args.count)) {
             std::optional<SessionEvent> e =
@@ -118,7 +118,7 @@ int run_set(const SetArgs& args) {
     return with_server_errors(args.remote, [&] {
         Client client;
         connect_remote(client, args.remote);
-        client.join_session(args.session); // only members steer
+        client.join_session(args.session, args.remote.session_key); // only members steer
         print_json_line(state_json(client.set_view(args.session, change)));
         client.leave_session(args.session);
         return kExitOk;

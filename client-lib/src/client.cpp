@@ -122,7 +122,7 @@ struct Client::Impl {
     std::vector<std::string> caps;
     uint64_t max_triangles = 0;
     std::optional<ConnectOptions> last_options;
-    std::set<std::string> joined;
+    std::map<std::string, std::string> joined; // session name -> key, re-joined on reconnect
     uint64_t next_id = 1;
 
     std::mutex events_mutex;
@@ -731,7 +731,7 @@ void Client::connect(const ConnectOptions& options) {
 
 void Client::reconnect() {
     std::optional<ConnectOptions> options;
-    std::set<std::string> sessions;
+    std::map<std::string, std::string> sessions;
     {
         std::lock_guard lock(impl_->info_mutex);
         options = impl_->last_options;
@@ -739,7 +739,7 @@ void Client::reconnect() {
     }
     if (!options) throw ClientError(ErrorCode::Connection, "reconnect() before any connect()");
     connect(*options);
-    for (const std::string& s : sessions) join_session(s);
+    for (const auto& [name, key] : sessions) join_session(name, key);
 }
 
 void Client::close() {
@@ -884,25 +884,33 @@ void Client::cancel(uint64_t request_id) {
     impl_->run([impl = impl_.get(), request_id] { impl->cancel_request(request_id); });
 }
 
-std::future<SessionState> Client::async_join_session(const std::string& name) {
+std::future<SessionState> Client::async_join_session(const std::string& name,
+                                                     const std::string& key) {
+    // A server without the capability would ignore the key and let anyone in: never send it.
+    if (!key.empty() && connected() && !has_capability("session-keys"))
+        throw ClientError(ErrorCode::InvalidArgument,
+                          "the server does not support session keys (no \"session-keys\" "
+                          "capability): the session \"" +
+                              name + "\" would be open to anyone");
     auto promise = std::make_shared<std::promise<SessionState>>();
     auto future = promise->get_future();
     {
         std::lock_guard lock(impl_->info_mutex);
-        impl_->joined.insert(name);
+        impl_->joined[name] = key;
     }
-    impl_->run([impl = impl_.get(), name, promise] {
+    impl_->run([impl = impl_.get(), name, key, promise] {
         if (!impl->require_connection(*promise)) return;
         impl->control.push_back({ControlOp::Kind::Join, name, nullptr, promise});
         v1::JoinSession join;
         join.set_name(name);
+        join.set_key(key);
         impl->send(protocol::encode_frame(join));
     });
     return future;
 }
 
-SessionState Client::join_session(const std::string& name) {
-    auto future = async_join_session(name);
+SessionState Client::join_session(const std::string& name, const std::string& key) {
+    auto future = async_join_session(name, key);
     return impl_->wait(future, "join_session", true);
 }
 

@@ -44,9 +44,13 @@ Config parse_config(int argc, char** argv) {
     opt("--max-sessions", c.max_sessions, "sessions at once");
     opt("--max-queue-mb", c.max_queue_mb,
         "per client: bytes waiting to be sent before it is dropped");
+    opt("--max-upload-mb", c.max_upload_mb,
+        "all clients together: MiB of uploads received but not yet stored");
     opt("--send-timeout", c.send_timeout_s,
         "seconds a stalled write is allowed before the client is dropped");
     opt("--idle-timeout", c.idle_timeout_s, "seconds of silence before a connection is closed");
+    opt("--handshake-timeout", c.handshake_timeout_s,
+        "seconds a new connection has for TLS, Hello and Auth");
     opt("--log-level", c.log_level, "trace, debug, info, warn, error")
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
     try {

@@ -27,6 +27,7 @@ struct Config {
     size_t max_clients = 256;
     size_t max_sessions = 64;
     size_t max_queue_mb = 256;   // per client: bytes waiting to be sent
+    size_t max_upload_mb = 1024; // all clients together: uploads received but not yet stored
     double send_timeout_s = 30;  // a write that makes no progress this long drops the client
     double idle_timeout_s = 600; // nothing received or sent this long closes the connection
     double handshake_timeout_s = 10;

@@ -1,5 +1,6 @@
 #include "connection.h"
 
+#include "client_limits.h"
 #include "service.h"
 
 #include "ddsimp/protocol/mesh_codec.h"
@@ -10,8 +11,8 @@ namespace ddsimp::server {
 namespace {
 
 // What this server can do; Welcome answers with the intersection.
-const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessions"};
-constexpr size_t kMaxUploadsPerConnection = 4;
+const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessions",
+                                          "session-keys"};
 
 } // namespace
 
@@ -19,6 +20,12 @@ Connection::Connection(Service& service, std::shared_ptr<Transport> transport, u
     : service_(service), transport_(std::move(transport)), id_(id), peer_(transport_->peer()),
       queue_(protocol::kDefaultChunkBytes), idle_timer_(service.io()) {
     member_.set_client_id(id);
+}
+
+std::set<std::string> Connection::scopes() const {
+    std::set<std::string> out{kPublicScope};
+    for (const auto& [name, scope] : sessions_) out.insert(scope);
+    return out;
 }
 
 void Connection::start() {
@@ -49,6 +56,11 @@ void Connection::on_frame(protocol::Frame frame) {
         handle(frame);
     } catch (const protocol::FrameError& e) {
         on_bad_frame(e.what());
+    } catch (const std::exception& e) {
+        // A bug or an allocation that failed: end this connection, never the server.
+        spdlog::error("client {} ({}): {} frame: {}", id_, peer_,
+                      protocol::message_type_name(frame.type), e.what());
+        send_error(v1::Error::INTERNAL, std::string("the server failed: ") + e.what(), 0, true);
     }
 }
 
@@ -95,7 +107,7 @@ void Connection::handle(const protocol::Frame& frame) {
     case v1::CANCEL:
         return on_cancel(parse_payload<v1::Cancel>(frame));
     case v1::JOIN_SESSION:
-        return service_.join(shared_from_this(), parse_payload<v1::JoinSession>(frame).name());
+        return service_.join(shared_from_this(), parse_payload<v1::JoinSession>(frame));
     case v1::LEAVE_SESSION:
         return service_.leave(*this, parse_payload<v1::LeaveSession>(frame).name());
     case v1::SET_SESSION_STATE:
@@ -113,7 +125,7 @@ void Connection::on_hello(const v1::Hello& hello) {
                               " is not supported (this server speaks version 1)",
                           0, true);
     hello_ = true;
-    member_.set_name(hello.client_name().substr(0, 200));
+    member_.set_name(hello.client_name().substr(0, kMaxNameBytes));
     member_.set_kind(hello.kind());
     for (const std::string& c : hello.capabilities())
         if (kCapabilities.count(c)) capabilities_.insert(c);
@@ -168,15 +180,32 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
                       std::to_string(begin.triangle_count()) +
                           " triangles, over the server's limit of " +
                           std::to_string(config.max_surface_triangles));
-    if (begin.vertex_count() > 3 * config.max_surface_triangles)
+    if (begin.vertex_count() > kMaxVerticesPerTriangle * config.max_surface_triangles)
         return refuse(v1::Error::RESOURCE_EXHAUSTED,
                       std::to_string(begin.vertex_count()) + " vertices, over the server's limit");
+    // The same answer whether the session does not exist or this client is not in it.
+    if (!begin.session().empty() && !sessions_.count(begin.session()))
+        return refuse(v1::Error::NOT_FOUND,
+                      "you are not a member of a session \"" + begin.session() + "\"");
+    if (begin.name().size() > kMaxNameBytes)
+        return refuse(v1::Error::INVALID_ARGUMENT,
+                      "a name of " + std::to_string(begin.name().size()) + " bytes (at most " +
+                          std::to_string(kMaxNameBytes) + ")");
+    if (size_t(begin.fields_size()) > kMaxFields)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED, std::to_string(begin.fields_size()) +
+                                                         " fields (at most " +
+                                                         std::to_string(kMaxFields) + ")");
     std::vector<protocol::FieldSpec> fields;
     for (const v1::FieldInfo& f : begin.fields()) {
-        if (f.components() < 1 || f.components() > 256)
-            return refuse(v1::Error::INVALID_ARGUMENT, "field \"" + f.name() + "\" has " +
-                                                           std::to_string(f.components()) +
-                                                           " components (1 to 256 allowed)");
+        if (f.name().size() > kMaxNameBytes)
+            return refuse(v1::Error::INVALID_ARGUMENT,
+                          "a field name of " + std::to_string(f.name().size()) +
+                              " bytes (at most " + std::to_string(kMaxNameBytes) + ")");
+        if (f.components() < 1 || f.components() > kMaxFieldComponents)
+            return refuse(v1::Error::INVALID_ARGUMENT,
+                          "field \"" + f.name() + "\" has " + std::to_string(f.components()) +
+                              " components (1 to " + std::to_string(kMaxFieldComponents) +
+                              " allowed)");
         fields.push_back({f.name(), f.components()});
     }
     uint64_t expected = 0;
@@ -191,9 +220,20 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
                           std::to_string(begin.vertex_count()) + " vertices, " +
                           std::to_string(begin.triangle_count()) +
                           " triangles and these fields take " + std::to_string(expected));
+    // Nothing is allocated before the bytes are counted against the server-wide budget.
+    if (!service_.reserve_upload_bytes(expected))
+        return refuse(v1::Error::RESOURCE_EXHAUSTED,
+                      std::to_string(expected) + " bytes do not fit in the server's " +
+                          std::to_string(config.max_upload_mb) +
+                          " MiB for uploads in progress; try again later");
     Upload& u = uploads_[id];
     u.begin = begin;
     u.bytes.reserve(expected);
+}
+
+void Connection::forget_upload(std::map<uint64_t, Upload>::iterator it) {
+    service_.release_upload_bytes(it->second.begin.total_bytes());
+    uploads_.erase(it);
 }
 
 void Connection::on_upload_chunk(v1::UploadChunk& chunk) {
@@ -210,7 +250,7 @@ void Connection::on_upload_chunk(v1::UploadChunk& chunk) {
     else if (u.bytes.size() + chunk.data().size() > u.begin.total_bytes())
         why = "more bytes than the announced " + std::to_string(u.begin.total_bytes());
     if (!why.empty()) {
-        uploads_.erase(it);
+        forget_upload(it);
         return send_error(v1::Error::INVALID_ARGUMENT,
                           "upload " + std::to_string(chunk.upload_id()) + ": " + why,
                           chunk.upload_id());
@@ -224,14 +264,17 @@ void Connection::on_upload_end(const v1::UploadEnd& end) {
         return send_error(v1::Error::INVALID_ARGUMENT,
                           "upload " + std::to_string(end.upload_id()) + " was not begun",
                           end.upload_id());
+    if (it->second.bytes.size() != it->second.begin.total_bytes()) {
+        const Upload& u = it->second;
+        const std::string why = "upload " + std::to_string(end.upload_id()) + " ended after " +
+                                std::to_string(u.bytes.size()) + " of " +
+                                std::to_string(u.begin.total_bytes()) + " bytes";
+        forget_upload(it);
+        return send_error(v1::Error::INVALID_ARGUMENT, why, end.upload_id());
+    }
+    // The service holds the bytes, and their share of the upload budget, until they are stored.
     Upload u = std::move(it->second);
     uploads_.erase(it);
-    if (u.bytes.size() != u.begin.total_bytes())
-        return send_error(v1::Error::INVALID_ARGUMENT,
-                          "upload " + std::to_string(end.upload_id()) + " ended after " +
-                              std::to_string(u.bytes.size()) + " of " +
-                              std::to_string(u.begin.total_bytes()) + " bytes",
-                          end.upload_id());
     service_.upload(shared_from_this(), std::move(u.begin), std::move(u.bytes));
 }
 
@@ -239,6 +282,12 @@ void Connection::on_request(const v1::Request& request) {
     if (active_requests_.count(request.request_id()))
         return send_error(v1::Error::INVALID_ARGUMENT,
                           "request " + std::to_string(request.request_id()) + " is already running",
+                          request.request_id());
+    if (active_requests_.size() >= kMaxRequestsPerConnection)
+        return send_error(v1::Error::RESOURCE_EXHAUSTED,
+                          "request " + std::to_string(request.request_id()) + ": at most " +
+                              std::to_string(kMaxRequestsPerConnection) +
+                              " requests at once per connection",
                           request.request_id());
     service_.request(shared_from_this(), request);
 }
@@ -296,6 +345,7 @@ void Connection::account_queue() {
     const int64_t now = int64_t(queue_.pending_bytes());
     service_.metrics().queue_bytes += now - accounted_queue_bytes_;
     accounted_queue_bytes_ = now;
+    if (now > service_.metrics().queue_bytes_peak) service_.metrics().queue_bytes_peak = now;
     const size_t limit = service_.config().max_queue_mb << 20;
     if (size_t(now) > limit && !closed_)
         drop("over " + std::to_string(service_.config().max_queue_mb) +
@@ -333,6 +383,7 @@ void Connection::on_closed(const std::string& why) {
     idle_timer_.cancel();
     queue_.drop_unstarted([](const BulkItem&) { return true; });
     account_queue();
+    while (!uploads_.empty()) forget_upload(uploads_.begin());
     service_.metrics().queue_bytes -= accounted_queue_bytes_;
     accounted_queue_bytes_ = 0;
     spdlog::info("client {} ({}) disconnected: {}", id_, peer_, why);

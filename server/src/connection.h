@@ -27,7 +27,10 @@ public:
     const std::string& peer() const { return peer_; }
     bool open() const { return !closed_; }
     bool has_capability(const std::string& name) const { return capabilities_.count(name) > 0; }
-    std::set<std::string>& sessions() { return sessions_; }
+    // The sessions joined: name -> scope (a connection is in at most one session of a name).
+    std::map<std::string, std::string>& sessions() { return sessions_; }
+    // What this client may see: the public scope and those of its sessions.
+    std::set<std::string> scopes() const;
 
     template <class M> void send(const M& message) { send_frame(protocol::encode_frame(message)); }
     void send_frame(std::string frame);
@@ -57,16 +60,17 @@ private:
     void on_upload_begin(const v1::UploadBegin& begin);
     void on_upload_chunk(v1::UploadChunk& chunk);
     void on_upload_end(const v1::UploadEnd& end);
+    struct Upload {
+        v1::UploadBegin begin;
+        std::string bytes;
+    };
+    // Drops an upload in progress and returns its bytes to the server's upload budget.
+    void forget_upload(std::map<uint64_t, Upload>::iterator it);
     void on_request(const v1::Request& request);
     void on_cancel(const v1::Cancel& cancel);
     void pump();
     void account_queue();
     void arm_idle_timer();
-
-    struct Upload {
-        v1::UploadBegin begin;
-        std::string bytes;
-    };
 
     Service& service_;
     std::shared_ptr<Transport> transport_;
@@ -80,7 +84,7 @@ private:
     int64_t accounted_queue_bytes_ = 0;
     std::map<uint64_t, Upload> uploads_;
     std::set<uint64_t> active_requests_;
-    std::set<std::string> sessions_;
+    std::map<std::string, std::string> sessions_;
     boost::asio::steady_timer idle_timer_;
 };
 

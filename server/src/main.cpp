@@ -9,11 +9,15 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <csignal>
 #include <iostream>
 
 int main(int argc, char** argv) {
     using namespace ddsimp::server;
     const Config config = parse_config(argc, argv);
+    // Under a file size limit (ulimit -f), a write past it fails with EFBIG instead of killing the
+    // server, and the upload that caused it gets UNAVAILABLE.
+    std::signal(SIGXFSZ, SIG_IGN);
     spdlog::set_default_logger(spdlog::stderr_color_mt("ddsimp"));
     spdlog::set_level(spdlog::level::from_str(config.log_level));
     spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");

@@ -39,6 +39,10 @@ std::string Metrics::render(const Snapshot& s) const {
     metric("cache_bytes", "gauge", "Bytes held by cached results.", s.cache_bytes);
     metric("cache_entries", "gauge", "Cached results.", s.cache_entries);
     metric("queue_bytes", "gauge", "Bytes waiting to be sent, all clients.", queue_bytes.load());
+    metric("client_queue_bytes_max", "gauge", "The most bytes one client ever had waiting.",
+           queue_bytes_peak.load());
+    metric("upload_bytes", "gauge", "Bytes of uploads received but not yet stored, all clients.",
+           upload_bytes.load());
     metric("sent_bytes_total", "counter", "Bytes sent.", bytes_sent.load());
     metric("received_bytes_total", "counter", "Bytes received.", bytes_received.load());
 

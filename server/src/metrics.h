@@ -19,7 +19,9 @@ struct Metrics {
     std::atomic<uint64_t> request_errors{0};
     std::atomic<uint64_t> uploads{0};
     std::atomic<uint64_t> levels_sent{0};
-    std::atomic<int64_t> queue_bytes{0}; // waiting to be sent, all clients
+    std::atomic<int64_t> queue_bytes{0};      // waiting to be sent, all clients
+    std::atomic<int64_t> queue_bytes_peak{0}; // the most one client ever had waiting
+    std::atomic<int64_t> upload_bytes{0};     // uploads received but not yet stored, all clients
     std::atomic<uint64_t> bytes_sent{0};
     std::atomic<uint64_t> bytes_received{0};
 

@@ -39,6 +39,13 @@ void NativeServer::accept() {
                 std::make_shared<StreamTransport<tcp::socket>>(std::move(socket), peer, limits));
             return accept();
         }
+        if (handshaking_ + service_.open_connections() >= c.max_clients) {
+            spdlog::warn("refusing {}: {} clients connected or in the TLS handshake", peer,
+                         c.max_clients);
+            socket.close(ignored);
+            return accept();
+        }
+        ++handshaking_;
         using TlsStream = asio::ssl::stream<tcp::socket>;
         auto stream = std::make_shared<TlsStream>(std::move(socket), *tls_);
         auto timer = std::make_shared<asio::steady_timer>(acceptor_.get_executor());
@@ -49,6 +56,7 @@ void NativeServer::accept() {
         stream->async_handshake(asio::ssl::stream_base::server, [this, stream, timer, peer, limits](
                                                                     boost::system::error_code e) {
             timer->cancel();
+            --handshaking_;
             if (e) {
                 spdlog::warn("TLS handshake with {} failed: {}", peer, e.message());
                 return;

@@ -23,6 +23,9 @@ private:
     Service& service_;
     boost::asio::ip::tcp::acceptor acceptor_;
     boost::asio::ssl::context* tls_;
+    // Connections still in their TLS handshake: they count against --max-clients like open ones,
+    // so handshakes that never finish cannot pile up beyond the limit.
+    size_t handshaking_ = 0;
 };
 
 } // namespace ddsimp::server

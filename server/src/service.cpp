@@ -1,5 +1,6 @@
 #include "service.h"
 
+#include "client_limits.h"
 #include "surface_file.h"
 
 #include "ddsimp/protocol/refinement.h"
@@ -101,7 +102,7 @@ void Service::accept(std::shared_ptr<Transport> transport) {
 
 void Service::connection_closed(Connection& c) {
     --metrics_.connections;
-    for (const std::string& name : std::set<std::string>(c.sessions())) leave(c, name);
+    for (const auto& [name, scope] : std::map(c.sessions())) leave(c, name);
     connections_.erase(c.id());
 }
 
@@ -130,9 +131,33 @@ void Service::stop() {
 
 // ----- surfaces -----
 
+bool Service::reserve_upload_bytes(uint64_t bytes) {
+    if (bytes > (uint64_t(config_.max_upload_mb) << 20) - upload_bytes_) return false;
+    upload_bytes_ += bytes;
+    metrics_.upload_bytes = int64_t(upload_bytes_);
+    return true;
+}
+
+void Service::release_upload_bytes(uint64_t bytes) {
+    upload_bytes_ -= std::min(bytes, upload_bytes_);
+    metrics_.upload_bytes = int64_t(upload_bytes_);
+}
+
 void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes) {
     ++metrics_.uploads;
-    asio::post(compute(), [this, c, begin = std::move(begin), bytes = std::move(bytes)] {
+    // Into a session: visible to its members only. (Checked at UploadBegin; it may have left.)
+    std::string scope = kPublicScope;
+    if (!begin.session().empty()) {
+        auto it = c->sessions().find(begin.session());
+        if (it == c->sessions().end()) {
+            release_upload_bytes(begin.total_bytes());
+            return c->send_error(v1::Error::NOT_FOUND,
+                                 "you are not a member of a session \"" + begin.session() + "\"",
+                                 begin.upload_id());
+        }
+        scope = it->second;
+    }
+    asio::post(compute(), [this, c, scope, begin = std::move(begin), bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
         v1::Error error;
@@ -146,7 +171,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
                 layout.vertex_count, layout.triangle_count, layout.fields);
             Surface surface = protocol::decode_mesh(bytes, layout);
             const RepairReport repairs = validate(surface);
-            const SurfaceStore::Added added = store_.add(begin.name(), std::move(surface));
+            const SurfaceStore::Added added = store_.add(begin.name(), std::move(surface), scope);
             result.set_upload_id(id);
             result.set_surface(added.info.id);
             result.set_triangles(added.info.triangles);
@@ -167,9 +192,14 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             error.set_code(v1::Error::UNAVAILABLE);
             error.set_message("upload " + std::to_string(id) +
                               ": the server cannot store it: " + e.what());
+        } catch (const std::exception& e) { // e.g. out of memory: this upload fails, not the server
+            spdlog::error("upload {} of client {} failed: {}", id, c->id(), e.what());
+            error.set_code(v1::Error::INTERNAL);
+            error.set_message("upload " + std::to_string(id) + ": the server failed: " + e.what());
         }
         error.set_request_id(id);
         asio::post(io_, [this, c, begin, result = std::move(result), error = std::move(error)] {
+            release_upload_bytes(begin.total_bytes());
             if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
             c->send(result);
             if (!begin.session().empty()) {
@@ -184,7 +214,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
 
 void Service::list_surfaces(Connection& c) {
     v1::SurfaceList list;
-    for (const StoredSurface& s : store_.list()) {
+    for (const StoredSurface& s : store_.list(c.scopes())) {
         v1::SurfaceInfo* info = list.add_surfaces();
         info->set_surface(s.id);
         info->set_name(s.name);
@@ -206,7 +236,17 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     };
     if (r.keep_size() == 0)
         return refuse(v1::Error::INVALID_ARGUMENT, "no levels (keep) asked for");
-    if (r.keep_size() > 64) return refuse(v1::Error::INVALID_ARGUMENT, "more than 64 levels");
+    if (size_t(r.keep_size()) > kMaxLevelsPerRequest)
+        return refuse(v1::Error::INVALID_ARGUMENT,
+                      "more than " + std::to_string(kMaxLevelsPerRequest) + " levels");
+    if (size_t(r.gradient_fields_size()) > kMaxFields)
+        return refuse(v1::Error::INVALID_ARGUMENT,
+                      "more than " + std::to_string(kMaxFields) + " gradient fields");
+    for (const std::string& f : r.gradient_fields())
+        if (f.size() > kMaxNameBytes)
+            return refuse(v1::Error::INVALID_ARGUMENT,
+                          "a field name of " + std::to_string(f.size()) + " bytes (at most " +
+                              std::to_string(kMaxNameBytes) + ")");
     for (float k : r.keep())
         if (!(k > 0 && k <= 1))
             return refuse(v1::Error::INVALID_ARGUMENT,
@@ -215,13 +255,14 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     ReductionParams params;
     std::string key;
     if (!r.result().empty()) {
+        // The same answer whether the result is unknown or of a surface this client may not see.
         auto it = known_results_.find(r.result());
-        if (it == known_results_.end())
+        if (it == known_results_.end() || !store_.find(it->second.surface, c->scopes()))
             return refuse(v1::Error::NOT_FOUND, "no result " + r.result());
         params = it->second;
         key = r.result();
     } else {
-        if (!store_.find(r.surface()))
+        if (!store_.find(r.surface(), c->scopes()))
             return refuse(v1::Error::NOT_FOUND, "no surface " + r.surface());
         if (!(r.alpha() >= 0 && r.alpha() <= 1))
             return refuse(v1::Error::INVALID_ARGUMENT, "alpha must be in [0, 1]");
@@ -235,7 +276,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
         if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
             return refuse(v1::Error::INVALID_ARGUMENT, "feature angle must be in [0, 180]");
         key = result_key(params);
-        known_results_[key] = params;
+        remember_result(key, params);
     }
     // A newer request for the same surface replaces the client's unsent older levels.
     std::set<uint64_t> replaced;
@@ -348,6 +389,15 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     });
 }
 
+void Service::remember_result(const std::string& key, const ReductionParams& params) {
+    if (!known_results_.emplace(key, params).second) return;
+    known_order_.push_back(key);
+    while (known_order_.size() > kMaxRememberedResults) {
+        known_results_.erase(known_order_.front());
+        known_order_.pop_front();
+    }
+}
+
 // ----- sessions -----
 
 void Service::broadcast(const Session& s, const std::string& cause) {
@@ -356,38 +406,70 @@ void Service::broadcast(const Session& s, const std::string& cause) {
         if (auto c = find(m.client_id())) c->send_frame(frame);
 }
 
-void Service::join(std::shared_ptr<Connection> c, const std::string& name) {
-    if (name.empty() || name.size() > 200)
-        return c->send_error(v1::Error::INVALID_ARGUMENT, "a session name has 1 to 200 bytes");
+void Service::join(std::shared_ptr<Connection> c, const v1::JoinSession& join) {
+    const std::string& name = join.name();
+    if (name.empty() || name.size() > kMaxNameBytes)
+        return c->send_error(v1::Error::INVALID_ARGUMENT,
+                             "a session name has 1 to " + std::to_string(kMaxNameBytes) + " bytes");
+    if (join.key().size() > kMaxSessionKeyBytes)
+        return c->send_error(v1::Error::INVALID_ARGUMENT, "a session key has at most " +
+                                                              std::to_string(kMaxSessionKeyBytes) +
+                                                              " bytes");
+    const std::string scope = session_scope(name, join.key());
+    auto joined = c->sessions().find(name);
+    if (joined != c->sessions().end() && joined->second != scope)
+        return c->send_error(v1::Error::INVALID_ARGUMENT,
+                             "you are in another session named \"" + name + "\"; leave it first");
+    if (joined == c->sessions().end() && c->sessions().size() >= kMaxSessionsPerConnection)
+        return c->send_error(v1::Error::RESOURCE_EXHAUSTED,
+                             "at most " + std::to_string(kMaxSessionsPerConnection) +
+                                 " sessions per connection");
     bool created = false;
-    Session* s = sessions_.join(name, c->member(), &created);
+    Session* s = sessions_.join(scope, name, c->member(), &created);
     if (!s)
         return c->send_error(v1::Error::RESOURCE_EXHAUSTED,
                              "the server has its maximum of " +
                                  std::to_string(config_.max_sessions) + " sessions");
-    c->sessions().insert(name);
+    c->sessions()[name] = scope;
     spdlog::info("client {} joined session \"{}\" ({} members)", c->id(), name, s->members.size());
     broadcast(*s, created ? "created" : "joined");
     if (!s->view.surface().empty()) send_session_mesh(*s, {c->id()});
 }
 
 void Service::leave(Connection& c, const std::string& name) {
-    if (!c.sessions().erase(name)) return;
+    auto joined = c.sessions().find(name);
+    if (joined == c.sessions().end()) return;
+    const std::string scope = joined->second;
+    c.sessions().erase(joined);
     bool leader_changed = false;
-    Session* s = sessions_.leave(name, c.id(), &leader_changed);
+    Session* s = sessions_.leave(scope, c.id(), &leader_changed);
     spdlog::info("client {} left session \"{}\"", c.id(), name);
     if (s) broadcast(*s, leader_changed ? "leader-left" : "left");
 }
 
 void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change) {
-    Session* s = sessions_.find(change.name());
+    auto joined = c->sessions().find(change.name());
+    Session* s = joined == c->sessions().end() ? nullptr : sessions_.find(joined->second);
     // The same answer whether the session does not exist or the client is not in it.
     if (!s || !s->has(c->id()))
         return c->send_error(v1::Error::NOT_FOUND,
                              "you are not a member of a session \"" + change.name() + "\"");
     const v1::View& v = change.view();
-    if (!v.surface().empty() && !store_.find(v.surface()))
+    // A member shows the session a surface it may see (public, or of another of its sessions).
+    if (!v.surface().empty() && !store_.share(v.surface(), c->scopes(), s->scope))
         return c->send_error(v1::Error::NOT_FOUND, "no surface " + v.surface());
+    if (!v.surface().empty())
+        asio::post(compute(), [this, id = v.surface()] {
+            try {
+                store_.persist_scopes(id);
+            } catch (const std::exception& e) {
+                spdlog::error("cannot store who may see surface {}: {}", id, e.what());
+            }
+        });
+    if (v.field().size() > kMaxNameBytes)
+        return c->send_error(v1::Error::INVALID_ARGUMENT,
+                             "a field name of " + std::to_string(v.field().size()) +
+                                 " bytes (at most " + std::to_string(kMaxNameBytes) + ")");
     if (change.set_alpha() && !(v.alpha() >= 0 && v.alpha() <= 1))
         return c->send_error(v1::Error::INVALID_ARGUMENT, "alpha must be in [0, 1]");
     if (v.keep() != 0 && !(v.keep() > 0 && v.keep() <= 1))
@@ -418,16 +500,16 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
     params.alpha = s.view.alpha();
     params.strategy = strategy_of(s.view.strategy());
     const std::string key = result_key(params);
-    known_results_[key] = params;
+    remember_result(key, params);
     const float keep = s.view.keep() > 0 ? s.view.keep() : 1.0f;
-    const std::string name = s.name;
+    const std::string name = s.name, scope = s.scope;
     const uint64_t version = s.view_version;
     // Encode only what the members asked for.
     bool need_raw = false, need_meshopt = false;
     for (uint64_t id : targets)
         if (auto c = find(id))
             (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
-    asio::post(compute(), [this, params, key, keep, name, version, need_raw, need_meshopt,
+    asio::post(compute(), [this, params, key, keep, name, scope, version, need_raw, need_meshopt,
                            targets = std::move(targets)] {
         std::shared_ptr<const EncodedLevel> raw, meshopt;
         std::string failure;
@@ -442,7 +524,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
             failure = e.what();
         }
         asio::post(io_, [=, this] {
-            Session* now = sessions_.find(name);
+            Session* now = sessions_.find(scope);
             if (!now || now->view_version != version) return; // superseded by a newer view
             for (uint64_t id : targets) {
                 auto c = find(id);

@@ -15,6 +15,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/thread_pool.hpp>
 
+#include <deque>
 #include <map>
 #include <memory>
 #include <optional>
@@ -29,6 +30,7 @@ public:
     // A new client; refused (with an error, then closed) above the client limit.
     void accept(std::shared_ptr<Transport> transport);
     void connection_closed(Connection& c);
+    size_t open_connections() const { return connections_.size(); }
 
     const Config& config() const { return config_; }
     Metrics& metrics() { return metrics_; }
@@ -36,11 +38,17 @@ public:
     std::string metrics_text();
     std::string server_name() const { return "ddsimp-server 0.1.0"; }
 
-    // Handlers, called by Connection once the client is authenticated.
+    // The budget for uploads in progress, all clients together (--max-upload-mb): false if
+    // `bytes` more do not fit.
+    bool reserve_upload_bytes(uint64_t bytes);
+    void release_upload_bytes(uint64_t bytes);
+
+    // Handlers, called by Connection once the client is authenticated. upload() releases the
+    // bytes' share of the upload budget once they are stored or refused.
     void upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes);
     void request(std::shared_ptr<Connection> c, const v1::Request& request);
     void list_surfaces(Connection& c);
-    void join(std::shared_ptr<Connection> c, const std::string& name);
+    void join(std::shared_ptr<Connection> c, const v1::JoinSession& join);
     void leave(Connection& c, const std::string& name);
     void set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change);
 
@@ -67,8 +75,12 @@ private:
     Sessions sessions_;
     std::optional<boost::asio::thread_pool> pool_; // none when config.threads is 0
     std::map<uint64_t, std::weak_ptr<Connection>> connections_;
-    std::map<std::string, ReductionParams> known_results_; // result key -> what it computes
+    // Result key -> what it computes, for resuming by key; the oldest are forgotten first.
+    void remember_result(const std::string& key, const ReductionParams& params);
+    std::map<std::string, ReductionParams> known_results_;
+    std::deque<std::string> known_order_;
     uint64_t next_id_ = 1;
+    uint64_t upload_bytes_ = 0; // reserved by uploads in progress (network thread)
     bool stopping_ = false;
 };
 

@@ -20,12 +20,16 @@ bool Session::has(uint64_t client) const {
                        [&](const v1::Member& m) { return m.client_id() == client; });
 }
 
-Session* Sessions::join(const std::string& name, const v1::Member& member, bool* created) {
+Session* Sessions::join(const std::string& scope, const std::string& name, const v1::Member& member,
+                        bool* created) {
     *created = false;
-    auto it = sessions_.find(name);
+    auto it = sessions_.find(scope);
     if (it == sessions_.end()) {
         if (sessions_.size() >= max_) return nullptr;
-        it = sessions_.emplace(name, Session{name}).first;
+        Session s;
+        s.name = name;
+        s.scope = scope;
+        it = sessions_.emplace(scope, std::move(s)).first;
         it->second.leader = member.client_id();
         it->second.view.set_keep(1.0f);
         it->second.view.set_alpha(0.5f);
@@ -39,9 +43,9 @@ Session* Sessions::join(const std::string& name, const v1::Member& member, bool*
     return &s;
 }
 
-Session* Sessions::leave(const std::string& name, uint64_t client, bool* leader_changed) {
+Session* Sessions::leave(const std::string& scope, uint64_t client, bool* leader_changed) {
     *leader_changed = false;
-    auto it = sessions_.find(name);
+    auto it = sessions_.find(scope);
     if (it == sessions_.end()) return nullptr;
     Session& s = it->second;
     auto& m = s.members;
@@ -60,16 +64,9 @@ Session* Sessions::leave(const std::string& name, uint64_t client, bool* leader_
     return &s;
 }
 
-Session* Sessions::find(const std::string& name) {
-    auto it = sessions_.find(name);
+Session* Sessions::find(const std::string& scope) {
+    auto it = sessions_.find(scope);
     return it == sessions_.end() ? nullptr : &it->second;
-}
-
-std::vector<std::string> Sessions::of(uint64_t client) const {
-    std::vector<std::string> out;
-    for (const auto& [name, s] : sessions_)
-        if (s.has(client)) out.push_back(name);
-    return out;
 }
 
 } // namespace ddsimp::server

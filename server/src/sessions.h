@@ -1,6 +1,7 @@
 // Collaborative sessions, as in COVISE: a name, members in the order they joined, a leader and
-// the view they share. Server-authoritative; every change bumps the version. Network thread
-// only.
+// the view they share. Server-authoritative; every change bumps the version. A session is found
+// by its scope (surface_store.h: the hash of its name and key), so sessions of the same name with
+// different keys are different sessions. Network thread only.
 #pragma once
 
 #include "ddsimp/v1/ddsimp.pb.h"
@@ -14,6 +15,7 @@ namespace ddsimp::server {
 
 struct Session {
     std::string name;
+    std::string scope; // session_scope(name, key)
     uint64_t version = 0;
     std::vector<v1::Member> members; // in joining order
     uint64_t leader = 0;
@@ -30,19 +32,18 @@ public:
 
     // Joins (creating the session if needed; its first member leads). nullptr if the session
     // limit is reached. Joining twice is a no-op that still returns the session.
-    Session* join(const std::string& name, const v1::Member& member, bool* created);
+    Session* join(const std::string& scope, const std::string& name, const v1::Member& member,
+                  bool* created);
     // Removes the member; passes the lead to the longest-present member if it led; deletes an
     // empty session. Returns the session (nullptr if deleted or unknown) and whether the lead
     // changed.
-    Session* leave(const std::string& name, uint64_t client, bool* leader_changed);
-    Session* find(const std::string& name);
-    // The sessions a client belongs to.
-    std::vector<std::string> of(uint64_t client) const;
+    Session* leave(const std::string& scope, uint64_t client, bool* leader_changed);
+    Session* find(const std::string& scope);
     size_t size() const { return sessions_.size(); }
 
 private:
     size_t max_;
-    std::map<std::string, Session> sessions_;
+    std::map<std::string, Session> sessions_; // by scope
 };
 
 } // namespace ddsimp::server

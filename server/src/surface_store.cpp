@@ -7,13 +7,55 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <sstream>
 
 namespace ddsimp::server {
 namespace fs = std::filesystem;
 
 namespace {
+
 constexpr const char* kExtension = ".ddsurf";
+constexpr const char* kScopesExtension = ".scopes";
+
+// The scopes file: one line per scope, "SCOPE LABEL" with the public scope as "-" and the label
+// in hex (labels are any bytes a client chose).
+std::string encode_scopes(const std::map<std::string, std::string>& labels) {
+    static const char* digits = "0123456789abcdef";
+    std::string out;
+    for (const auto& [scope, label] : labels) {
+        out += scope.empty() ? "-" : scope;
+        out += ' ';
+        for (unsigned char ch : label) out += digits[ch >> 4], out += digits[ch & 15];
+        out += '\n';
+    }
+    return out;
+}
+
+std::map<std::string, std::string> decode_scopes(const std::string& text, const fs::path& path) {
+    std::map<std::string, std::string> labels;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        const size_t space = line.find(' ');
+        const std::string hex = space == std::string::npos ? "" : line.substr(space + 1);
+        if (space == std::string::npos || hex.size() % 2 ||
+            hex.find_first_not_of("0123456789abcdef") != std::string::npos)
+            throw SurfaceFileError(path.string() + ": a line that is not \"SCOPE LABEL\"");
+        std::string label;
+        for (size_t i = 0; i < hex.size(); i += 2)
+            label += char(std::stoi(hex.substr(i, 2), nullptr, 16));
+        const std::string scope = line.substr(0, space);
+        labels[scope == "-" ? kPublicScope : scope] = label;
+    }
+    return labels;
+}
+
+} // namespace
+
+std::string session_scope(const std::string& name, const std::string& key) {
+    return protocol::sha256_hex("session " + std::to_string(name.size()) + ":" + name + key);
 }
 
 StoredSurface describe_surface(const std::string& id, const std::string& name, const Surface& s) {
@@ -55,7 +97,16 @@ SurfaceStore::SurfaceStore(fs::path dir) : dir_(std::move(dir)) {
                 spdlog::error("skipping {}: its content hash is {}", p.string(), id);
                 continue;
             }
-            insert(id, file.name, std::move(file.surface), false);
+            fs::path scopes = p;
+            scopes.replace_extension(kScopesExtension);
+            std::map<std::string, std::string> labels{{kPublicScope, file.name}}; // before scopes
+            if (fs::exists(scopes)) {
+                std::ifstream in(scopes, std::ios::binary);
+                labels = decode_scopes({std::istreambuf_iterator<char>(in), {}}, scopes);
+            }
+            Entry e{describe_surface(id, "", file.surface), std::move(labels),
+                    std::make_shared<const Surface>(std::move(file.surface))};
+            entries_.emplace(id, std::move(e));
         } catch (const std::exception& e) {
             spdlog::error("skipping {}", e.what());
         }
@@ -63,36 +114,99 @@ SurfaceStore::SurfaceStore(fs::path dir) : dir_(std::move(dir)) {
     spdlog::info("data directory {}: {} surfaces", dir_.string(), entries_.size());
 }
 
-SurfaceStore::Added SurfaceStore::insert(const std::string& id, const std::string& name,
-                                         Surface surface, bool write) {
-    {
-        std::lock_guard lock(mutex_);
-        if (auto it = entries_.find(id); it != entries_.end()) return {it->second.info, true};
-    }
-    // Written outside the lock; two uploads of the same surface write the same bytes.
-    if (write) write_file_atomically(dir_ / (id + kExtension), encode_surface_file(name, surface));
-    StoredSurface info = describe_surface(id, name, surface);
-    std::lock_guard lock(mutex_);
-    auto [it, inserted] =
-        entries_.try_emplace(id, Entry{info, std::make_shared<const Surface>(std::move(surface))});
-    return {it->second.info, !inserted};
+std::optional<StoredSurface> SurfaceStore::visible(const Entry& e,
+                                                   const std::set<std::string>& scopes) {
+    for (const std::string& scope : scopes)
+        if (auto label = e.labels.find(scope); label != e.labels.end()) {
+            StoredSurface info = e.info;
+            info.name = label->second;
+            return info;
+        }
+    return std::nullopt;
 }
 
-SurfaceStore::Added SurfaceStore::add(const std::string& name, Surface surface) {
+void SurfaceStore::write_scopes(const std::string& id,
+                                const std::map<std::string, std::string>& labels) {
+    write_file_atomically(dir_ / (id + kScopesExtension), encode_scopes(labels));
+}
+
+SurfaceStore::Added SurfaceStore::insert(const std::string& id, const std::string& name,
+                                         Surface surface, const std::string& scope, bool write) {
+    const std::set<std::string> seen_by{kPublicScope, scope};
+    // Disk writes one at a time: the scopes written are always the union of all added so far.
+    std::unique_lock files(files_mutex_, std::defer_lock);
+    if (write) files.lock();
+    std::map<std::string, std::string> labels;
+    bool known = false;
+    {
+        std::lock_guard lock(mutex_);
+        if (auto it = entries_.find(id); it != entries_.end()) {
+            if (auto info = visible(it->second, seen_by)) return {*info, true};
+            known = true;
+            labels = it->second.labels;
+        }
+    }
+    labels.emplace(scope, name);
+    if (write) { // (in-memory surfaces are public: never here)
+        // Scopes first: a crash between the two writes leaves scopes without a surface (ignored),
+        // never a surface without its scopes (which would make it public).
+        write_scopes(id, labels);
+        if (!known)
+            write_file_atomically(dir_ / (id + kExtension), encode_surface_file(name, surface));
+    }
+    std::lock_guard lock(mutex_);
+    auto it = entries_.find(id);
+    if (it == entries_.end())
+        it = entries_
+                 .emplace(id, Entry{describe_surface(id, "", surface),
+                                    {},
+                                    std::make_shared<const Surface>(std::move(surface))})
+                 .first;
+    it->second.labels.emplace(scope, name);
+    return {*visible(it->second, {scope}), false};
+}
+
+SurfaceStore::Added SurfaceStore::add(const std::string& name, Surface surface,
+                                      const std::string& scope) {
     const std::string id = protocol::surface_hash(surface);
-    return insert(id, name, std::move(surface), true);
+    return insert(id, name, std::move(surface), scope, true);
 }
 
 SurfaceStore::Added SurfaceStore::add_in_memory(const std::string& name, Surface surface) {
     const std::string id = protocol::surface_hash(surface);
-    return insert(id, name, std::move(surface), false);
+    return insert(id, name, std::move(surface), kPublicScope, false);
 }
 
-std::optional<StoredSurface> SurfaceStore::find(const std::string& id) const {
+bool SurfaceStore::share(const std::string& id, const std::set<std::string>& scopes,
+                         const std::string& scope) {
+    std::lock_guard lock(mutex_);
+    auto it = entries_.find(id);
+    if (it == entries_.end()) return false;
+    const std::optional<StoredSurface> info = visible(it->second, scopes);
+    if (!info) return false;
+    if (!visible(it->second, {kPublicScope, scope})) it->second.labels.emplace(scope, info->name);
+    return true;
+}
+
+void SurfaceStore::persist_scopes(const std::string& id) {
+    std::lock_guard files(files_mutex_);
+    std::map<std::string, std::string> labels;
+    {
+        std::lock_guard lock(mutex_);
+        auto it = entries_.find(id);
+        if (it == entries_.end() || it->second.labels.count(kPublicScope))
+            return; // nothing to keep
+        labels = it->second.labels;
+    }
+    write_scopes(id, labels);
+}
+
+std::optional<StoredSurface> SurfaceStore::find(const std::string& id,
+                                                const std::set<std::string>& scopes) const {
     std::lock_guard lock(mutex_);
     auto it = entries_.find(id);
     if (it == entries_.end()) return std::nullopt;
-    return it->second.info;
+    return visible(it->second, scopes);
 }
 
 std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) const {
@@ -101,11 +215,12 @@ std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) const {
     return it == entries_.end() ? nullptr : it->second.surface;
 }
 
-std::vector<StoredSurface> SurfaceStore::list() const {
+std::vector<StoredSurface> SurfaceStore::list(const std::set<std::string>& scopes) const {
     std::vector<StoredSurface> out;
     {
         std::lock_guard lock(mutex_);
-        for (const auto& [id, e] : entries_) out.push_back(e.info);
+        for (const auto& [id, e] : entries_)
+            if (auto info = visible(e, scopes)) out.push_back(std::move(*info));
     }
     std::stable_sort(out.begin(), out.end(),
                      [](const auto& a, const auto& b) { return a.name < b.name; });

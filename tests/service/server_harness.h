@@ -11,6 +11,9 @@
 
 #include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <regex>
 #include <string>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -37,11 +40,14 @@ inline std::filesystem::path temp_dir(const std::string& name) {
     return dir;
 }
 
-// A ddsimp-server child process.
+// A ddsimp-server child process. `before_exec` runs in the child just before the server starts
+// (e.g. to drop a privilege or set a resource limit).
 class ServerProcess {
 public:
-    ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {})
-        : data_dir_(std::move(data_dir)), extra_(std::move(extra)) {
+    ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {},
+                  std::function<void()> before_exec = {})
+        : data_dir_(std::move(data_dir)), extra_(std::move(extra)),
+          before_exec_(std::move(before_exec)) {
         start();
     }
     ~ServerProcess() { stop(SIGKILL); }
@@ -62,6 +68,7 @@ public:
         pid_ = ::fork();
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGKILL); // never outlive a test that crashed
+            if (before_exec_) before_exec_();
             std::vector<char*> argv;
             for (auto& a : args) argv.push_back(a.data());
             argv.push_back(nullptr);
@@ -94,11 +101,25 @@ public:
         return !ec;
     }
 
+    // A line of /proc/PID/status in bytes ("VmRSS", "VmHWM": resident now, at most so far).
+    size_t status_bytes(const std::string& key) const {
+        std::ifstream in("/proc/" + std::to_string(pid_) + "/status");
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind(key + ":", 0) == 0)
+                return size_t(std::stoull(line.substr(key.size() + 1))) << 10;
+        ADD_FAILURE() << "no " << key << " in /proc/" << pid_ << "/status";
+        return 0;
+    }
+    // Whether the process is still running (not exited or killed).
+    bool running() const { return pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0; }
+    pid_t pid() const { return pid_; }
+
     uint16_t port = 0, http_port = 0;
 
 private:
     std::filesystem::path data_dir_;
     std::vector<std::string> extra_;
+    std::function<void()> before_exec_;
     pid_t pid_ = -1;
 };
 
@@ -115,6 +136,45 @@ inline std::string http_get(uint16_t port, const std::string& target) {
     char buf[4096];
     while (size_t n = s.read_some(asio::buffer(buf), ec)) out.append(buf, n);
     return out;
+}
+
+// One sample of /metrics (e.g. "ddsimp_connections"), or -1 if the server does not report it.
+inline double metric(uint16_t http_port, const std::string& name) {
+    const std::string text = http_get(http_port, "/metrics");
+    std::smatch m;
+    if (!std::regex_search(text, m, std::regex("\n" + name + " ([0-9.e+-]+)"))) return -1;
+    return std::stod(m[1]);
+}
+
+// The frames that upload a surface: UploadBegin, 256 KiB UploadChunks, UploadEnd.
+inline std::vector<std::string> upload_frames(const Surface& s, uint64_t id,
+                                              const std::string& name = "test",
+                                              const std::string& session = "") {
+    const protocol::EncodedBlob blob = protocol::encode_mesh(s, v1::RAW);
+    v1::UploadBegin b;
+    b.set_upload_id(id);
+    b.set_name(name);
+    b.set_vertex_count(s.vertex_count());
+    b.set_triangle_count(s.triangle_count());
+    for (const Field& f : s.fields) {
+        auto* info = b.add_fields();
+        info->set_name(f.name);
+        info->set_components(uint32_t(f.components));
+    }
+    b.set_total_bytes(blob.bytes.size());
+    b.set_session(session);
+    std::vector<std::string> frames{protocol::encode_frame(b)};
+    for (size_t at = 0; at < blob.bytes.size(); at += 256 * 1024) {
+        v1::UploadChunk c;
+        c.set_upload_id(id);
+        c.set_offset(at);
+        c.set_data(blob.bytes.substr(at, 256 * 1024));
+        frames.push_back(protocol::encode_frame(c));
+    }
+    v1::UploadEnd e;
+    e.set_upload_id(id);
+    frames.push_back(protocol::encode_frame(e));
+    return frames;
 }
 
 // Blocking frames over a TCP socket, with a deadline on every read.
@@ -197,30 +257,7 @@ public:
     // Uploads in 256 KiB chunks; returns the result.
     v1::UploadResult upload(const Surface& s, uint64_t id, const std::string& name = "test",
                             const std::string& session = "") {
-        const protocol::EncodedBlob blob = protocol::encode_mesh(s, v1::RAW);
-        v1::UploadBegin b;
-        b.set_upload_id(id);
-        b.set_name(name);
-        b.set_vertex_count(s.vertex_count());
-        b.set_triangle_count(s.triangle_count());
-        for (const Field& f : s.fields) {
-            auto* info = b.add_fields();
-            info->set_name(f.name);
-            info->set_components(uint32_t(f.components));
-        }
-        b.set_total_bytes(blob.bytes.size());
-        b.set_session(session);
-        send(b);
-        for (size_t at = 0; at < blob.bytes.size(); at += 256 * 1024) {
-            v1::UploadChunk c;
-            c.set_upload_id(id);
-            c.set_offset(at);
-            c.set_data(blob.bytes.substr(at, 256 * 1024));
-            send(c);
-        }
-        v1::UploadEnd e;
-        e.set_upload_id(id);
-        send(e);
+        for (const std::string& frame : upload_frames(s, id, name, session)) send_bytes(frame);
         return expect<v1::UploadResult>();
     }
 

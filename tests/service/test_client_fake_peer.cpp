@@ -103,8 +103,9 @@ TEST(ClientFakePeer, HelloOffersCapabilitiesAndOnlyAgreedOnesAreUsed) {
     EXPECT_EQ(hello.protocol_version(), 1u);
     EXPECT_EQ(hello.client_name(), "fake-peer test");
     EXPECT_EQ(hello.kind(), v1::VR);
-    EXPECT_EQ(std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
-              (std::vector<std::string>{"meshopt-codec", "progressive", "sessions"}));
+    EXPECT_EQ(
+        std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
+        (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys"}));
 }
 
 TEST(ClientFakePeer, TokenIsSentWhenAskedAndARefusalCarriesTheServersMessage) {

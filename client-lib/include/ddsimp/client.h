@@ -91,7 +91,8 @@ struct ConnectOptions {
     std::string client_name = "libddsimp-client";
     ClientKind kind = ClientKind::Tool;
     // Offered in Hello; only those the server also has are used (see Client::capabilities()).
-    std::vector<std::string> capabilities = {"meshopt-codec", "progressive", "sessions"};
+    std::vector<std::string> capabilities = {"meshopt-codec", "progressive", "sessions",
+                                             "session-keys"};
 
     // Limit for connecting and the handshake, and for the blocking calls that wait for a small
     // answer (list_surfaces, join_session, set_view). Uploads and levels wait as long as the
@@ -266,14 +267,17 @@ public:
     uint64_t max_surface_triangles() const;
 
     // Sends a surface in chunks of 512 KiB (raw) and waits until the server has stored it.
-    // `name` labels it in lists; `session`, if set, switches that session's view to it.
+    // `name` labels it in lists. `session`, if set, must be a session this client joined: the
+    // surface is then visible to that session's members only and the session's view switches to
+    // it; without it, every client of the server may see the surface.
     // Throws ClientError (BadSurface with the library's message, ResourceExhausted, ...).
     UploadResult upload(const Surface& surface, const std::string& name = {},
                         const std::string& session = {});
     std::future<UploadResult> async_upload(const Surface& surface, const std::string& name = {},
                                            const std::string& session = {});
 
-    // The surfaces the server has stored.
+    // The surfaces this client may see: those uploaded without a session and those of the
+    // sessions it joined.
     std::vector<SurfaceInfo> list_surfaces();
     std::future<std::vector<SurfaceInfo>> async_list_surfaces();
 
@@ -287,9 +291,13 @@ public:
     void cancel(uint64_t request_id);
 
     // Joins (creating if needed) a session and returns its state as the server sent it to this
-    // member; the current mesh, if any, follows as a session event.
-    SessionState join_session(const std::string& name);
-    std::future<SessionState> async_join_session(const std::string& name);
+    // member; the current mesh, if any, follows as a session event. A session is its name and
+    // its key together: the creator chooses the key, and only clients presenting the same key
+    // join it and see the surfaces uploaded into it (a different key joins another session of
+    // that name). A key needs the server's "session-keys" capability (else InvalidArgument).
+    SessionState join_session(const std::string& name, const std::string& key = {});
+    std::future<SessionState> async_join_session(const std::string& name,
+                                                 const std::string& key = {});
     // Leaves a session (no answer is awaited).
     void leave_session(const std::string& name);
     // Changes the session's view (this member leads from then on); returns the state with the

@@ -1,0 +1,168 @@
+// Shared by the hostile-client, fault and security tests: a well-behaved client whose levels are
+// checked against the offline library, bare sockets for the hundreds of connections an attacker
+// opens, and the memory bound a server's configured limits imply.
+#pragma once
+
+#include "mesh_comparison.h"
+#include "server_harness.h"
+#include "test_surfaces.h"
+
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <atomic>
+#include <optional>
+#include <set>
+
+namespace ddsimp::test {
+
+inline Surface small_surface() {
+    return with_test_fields(icosphere(4)); // 5120 triangles
+}
+
+inline v1::Request level_request(const std::string& surface, std::vector<float> keeps, uint64_t id,
+                                 float alpha = 0.3f) {
+    v1::Request r;
+    r.set_request_id(id);
+    r.set_surface(surface);
+    r.set_alpha(alpha);
+    for (float k : keeps) r.add_keep(k);
+    r.set_encoding(v1::RAW);
+    return r;
+}
+
+// What `ddsimp simplify --alpha A --keep K` makes of the surface: what a level must equal.
+inline Surface offline_level(const Surface& in, float alpha, float keep) {
+    Options o;
+    o.alpha = alpha;
+    o.keep_fraction = keep;
+    return simplify(in, o).surface;
+}
+
+// The client every test keeps serving: it uploads a small surface and, whenever asked, checks
+// that a level it requests equals the offline library's result byte for byte.
+class WellBehavedClient {
+public:
+    explicit WellBehavedClient(uint16_t port, const std::string& token = "") : client_(port) {
+        client_.hello({"sessions"}, token);
+        surface_ = client_.upload(input_, 1).surface();
+    }
+
+    // Requests one level (a new keep each time, so it is computed, not only cached) and checks it.
+    void check_level() {
+        const float keep = 0.1f + 0.05f * float(next_id_ % 10);
+        const uint64_t id = ++next_id_;
+        client_.send(level_request(surface_, {keep}, id));
+        const RawClient::Level l = client_.level();
+        EXPECT_EQ(l.begin.request_id(), id);
+        const Surface got = protocol::decode_mesh(l.bytes, protocol::layout_of(l.begin));
+        EXPECT_TRUE(same_bytes(got, offline_level(input_, 0.3f, keep))) << "keep " << keep;
+        EXPECT_EQ(client_.expect<v1::RequestDone>().request_id(), id);
+    }
+
+    // Something the server answers at once, so the connection never idles out.
+    void ping() {
+        v1::Ping p;
+        p.set_nonce(++next_id_);
+        client_.send(p);
+        EXPECT_EQ(client_.expect<v1::Pong>().nonce(), next_id_);
+    }
+
+    RawClient& raw() { return client_; }
+    const std::string& surface() const { return surface_; }
+
+private:
+    RawClient client_;
+    Surface input_ = small_surface();
+    std::string surface_;
+    uint64_t next_id_ = 100;
+};
+
+// A bare connection for the hundreds an attacker opens: one socket on a shared io_context (a
+// RawClient has its own, which costs the test three more descriptors).
+class BareConnection {
+public:
+    BareConnection(asio::io_context& io, uint16_t port) : socket_(io) {
+        socket_.connect({asio::ip::make_address("127.0.0.1"), port});
+    }
+    // Errors are ignored: the server may have closed the connection already, as it should.
+    void send_bytes(const std::string& bytes) {
+        boost::system::error_code ignored;
+        asio::write(socket_, asio::buffer(bytes), ignored);
+    }
+    template <class M> void send(const M& m) { send_bytes(protocol::encode_frame(m)); }
+    // The next frame, or nothing once the server has closed the connection.
+    std::optional<protocol::Frame> next() {
+        std::array<unsigned char, protocol::kHeaderBytes> header;
+        boost::system::error_code ec;
+        asio::read(socket_, asio::buffer(header), ec);
+        if (ec) return std::nullopt;
+        const protocol::FrameHeader h = protocol::read_header(header.data(), 64u << 20);
+        std::string payload(h.length, '\0');
+        asio::read(socket_, asio::buffer(payload), ec);
+        if (ec) return std::nullopt;
+        return protocol::Frame{h.type, std::move(payload)};
+    }
+    // Reads until the server closes the connection; the error it sent last, if any.
+    std::optional<v1::Error> until_closed() {
+        std::optional<v1::Error> last;
+        while (auto f = next())
+            if (f->type == v1::ERROR) last = protocol::parse_payload<v1::Error>(*f);
+        return last;
+    }
+    // Whether the server closes the connection within `wait` (without reading what it sent).
+    bool closed_within(std::chrono::milliseconds wait) {
+        pollfd p{socket_.native_handle(), POLLIN | POLLRDHUP, 0};
+        if (::poll(&p, 1, int(wait.count())) <= 0) return false;
+        char ch;
+        return ::recv(p.fd, &ch, 1, MSG_PEEK | MSG_DONTWAIT) <= 0;
+    }
+    void close() { socket_.close(); }
+
+private:
+    tcp::socket socket_;
+};
+
+// The ids of the surfaces the client may see.
+inline std::set<std::string> listed(RawClient& c) {
+    c.send(v1::ListSurfaces{});
+    const v1::SurfaceList list = c.expect<v1::SurfaceList>();
+    std::set<std::string> ids;
+    for (const auto& s : list.surfaces()) ids.insert(s.surface());
+    return ids;
+}
+
+// The next Error, skipping anything else (the connection must stay open for it).
+inline v1::Error next_error(RawClient& c) {
+    for (;;) {
+        const std::optional<protocol::Frame> f = c.next();
+        if (!f) throw std::runtime_error("closed while waiting for an error");
+        if (f->type == v1::ERROR) return protocol::parse_payload<v1::Error>(*f);
+    }
+}
+
+inline v1::Hello hello_message() {
+    v1::Hello h;
+    h.set_protocol_version(1);
+    h.set_client_name("hostile");
+    return h;
+}
+
+// Waits (up to a minute, for a loaded machine) until a metric has the value; returns the last.
+inline double await_metric(uint16_t http_port, const std::string& name, double value) {
+    double now = -1;
+    for (int i = 0; i < 600 && (now = metric(http_port, name)) != value; ++i)
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    return now;
+}
+
+constexpr size_t kMiB = size_t(1) << 20;
+
+// Memory the bounds allow beyond what the configured limits account for: the allocator's
+// per-thread arenas and free lists, the io and compute threads' stacks. Fixed, not per client.
+constexpr size_t kAllocatorSlack = 24 * kMiB;
+// What an open connection holds besides the frame it is reading and its send queue: a socket,
+// its transport and connection objects and timers — a few hundred bytes; allowed generously.
+constexpr size_t kConnectionOverhead = 64u << 10;
+
+} // namespace ddsimp::test

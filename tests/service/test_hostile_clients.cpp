@@ -1,0 +1,244 @@
+// Hostile clients against a real ddsimp-server: garbage bytes, absurd length headers, truncated
+// frames, hundreds of idle connections and the client limit, a client that stops reading in the
+// middle of a large mesh. In each case a well-behaved client keeps getting levels equal to the
+// offline library's, and the server's peak memory (VmHWM) stays within what its configured
+// limits allow on top of what it held before the attack.
+#include "hostile_support.h"
+
+#include <random>
+
+namespace ddsimp::test {
+namespace {
+
+constexpr size_t kMaxFrameBytes = kMiB; // --max-frame-bytes in these tests
+
+class HostileClients : public ::testing::Test {
+protected:
+    void start(std::vector<std::string> flags) {
+        flags.insert(flags.end(), {"--max-frame-bytes", std::to_string(kMaxFrameBytes)});
+        server_ = std::make_unique<ServerProcess>(temp_dir(name()), flags);
+        good_ = std::make_unique<WellBehavedClient>(server_->port);
+        good_->check_level();
+        baseline_ = server_->status_bytes("VmHWM");
+    }
+    static std::string name() {
+        return ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    }
+    // The peak since the attack began, beyond the peak before it.
+    void expect_peak_within(size_t allowance) {
+        const size_t peak = server_->status_bytes("VmHWM");
+        EXPECT_LE(peak, baseline_ + allowance)
+            << "peak " << (peak >> 10) << " KiB, before the attack " << (baseline_ >> 10)
+            << " KiB, allowed " << (allowance >> 10) << " KiB more";
+    }
+    std::unique_ptr<ServerProcess> server_;
+    std::unique_ptr<WellBehavedClient> good_;
+    size_t baseline_ = 0;
+};
+
+std::string header(v1::MessageType type, uint32_t length) {
+    unsigned char h[protocol::kHeaderBytes];
+    protocol::write_header(h, type, length);
+    return std::string(reinterpret_cast<char*>(h), sizeof h);
+}
+
+// Random bytes (seeded: the same every run), never starting like a frame.
+TEST_F(HostileClients, GarbageBytesEndOnlyTheirOwnConnection) {
+    start({});
+    std::mt19937 random(20261121);
+    asio::io_context io;
+    constexpr int kClients = 40;
+    for (int i = 0; i < kClients; ++i) {
+        BareConnection c(io, server_->port);
+        if (i % 2) c.send(hello_message()); // half of them after a valid Hello
+        std::string garbage(size_t(12 + random() % (64u << 10)), '\0');
+        for (char& ch : garbage) ch = char(random());
+        garbage[0] = 'X';
+        c.send_bytes(garbage);
+        const std::optional<v1::Error> e = c.until_closed();
+        ASSERT_TRUE(e) << "client " << i;
+        EXPECT_EQ(e->code(), v1::Error::BAD_FRAME);
+        EXPECT_NE(e->message().find("not a ddsimp frame"), std::string::npos) << e->message();
+        if (i % 10 == 0) good_->check_level();
+    }
+    good_->check_level();
+    EXPECT_EQ(metric(server_->http_port, "ddsimp_bad_frames_total"), kClients);
+    EXPECT_EQ(await_metric(server_->http_port, "ddsimp_connections", 1), 1);
+    // A garbage frame is read 12 bytes at a time and refused on its header: nothing is kept.
+    expect_peak_within(kAllocatorSlack);
+}
+
+// Lengths over the limit, up to 4 GiB, for several types, before and after Hello: refused on the
+// header, before a byte of payload is allocated. A frame of exactly the limit is accepted.
+TEST_F(HostileClients, AbsurdLengthHeadersAreRefusedBeforeAllocating) {
+    start({});
+    asio::io_context io;
+    int refused = 0;
+    for (uint32_t length : {uint32_t(kMaxFrameBytes + 1), 0x7fffffffu, 0xffffffffu})
+        for (v1::MessageType type : {v1::HELLO, v1::UPLOAD_CHUNK, v1::REQUEST})
+            for (bool after_hello : {false, true}) {
+                BareConnection c(io, server_->port);
+                if (after_hello) c.send(hello_message());
+                c.send_bytes(header(type, length));
+                const std::optional<v1::Error> e = c.until_closed();
+                ASSERT_TRUE(e);
+                EXPECT_EQ(e->code(), v1::Error::BAD_FRAME);
+                EXPECT_NE(e->message().find("over the limit of " + std::to_string(kMaxFrameBytes)),
+                          std::string::npos)
+                    << e->message();
+                ++refused;
+            }
+    good_->check_level();
+    EXPECT_EQ(metric(server_->http_port, "ddsimp_bad_frames_total"), refused);
+
+    // Exactly the limit: an UploadChunk padded to kMaxFrameBytes is read and answered (for an
+    // upload never begun), so the limit is the largest accepted payload, not one byte less.
+    BareConnection exact(io, server_->port);
+    exact.send(hello_message());
+    ASSERT_EQ(exact.next()->type, v1::WELCOME);
+    v1::UploadChunk chunk;
+    chunk.set_upload_id(5);
+    chunk.set_data(std::string(kMaxFrameBytes - 16, 'x'));
+    const size_t overhead = chunk.ByteSizeLong() - chunk.data().size();
+    chunk.set_data(std::string(kMaxFrameBytes - overhead, 'x'));
+    ASSERT_EQ(chunk.ByteSizeLong(), kMaxFrameBytes);
+    exact.send(chunk);
+    const std::optional<protocol::Frame> answer = exact.next();
+    ASSERT_TRUE(answer);
+    const v1::Error e = protocol::parse_payload<v1::Error>(*answer);
+    EXPECT_EQ(e.code(), v1::Error::INVALID_ARGUMENT);
+    EXPECT_NE(e.message().find("upload 5 was not begun"), std::string::npos) << e.message();
+
+    // 18 headers announced up to 4 GiB each; only the exact frame's MiB may have been allocated.
+    expect_peak_within(kMaxFrameBytes + kAllocatorSlack);
+}
+
+// Frames cut short: half a header before Hello (the handshake timeout closes it), a header and
+// part of its payload after Hello (the idle timeout closes it), and cuts followed by a close.
+// Forty clients each stalled in a frame of the maximum size hold at most that frame each.
+TEST_F(HostileClients, TruncatedFramesAreClosedByTheTimeoutsAndHoldOneFrameEach) {
+    start({"--handshake-timeout", "1", "--idle-timeout", "3"});
+    asio::io_context io;
+    const std::string hello = protocol::encode_frame(hello_message());
+    std::vector<std::unique_ptr<BareConnection>> stalled;
+    for (int i = 0; i < 10; ++i) { // half a header, before Hello
+        stalled.push_back(std::make_unique<BareConnection>(io, server_->port));
+        stalled.back()->send_bytes(header(v1::HELLO, 40).substr(0, 6));
+    }
+    for (int i = 0; i < 10; ++i) { // half of a Hello frame
+        stalled.push_back(std::make_unique<BareConnection>(io, server_->port));
+        stalled.back()->send_bytes(hello.substr(0, hello.size() - 3));
+    }
+    constexpr int kFullFrames = 40;
+    for (int i = 0; i < kFullFrames; ++i) { // Hello, then a frame of the maximum size cut in half
+        stalled.push_back(std::make_unique<BareConnection>(io, server_->port));
+        stalled.back()->send_bytes(hello + header(v1::UPLOAD_CHUNK, uint32_t(kMaxFrameBytes)) +
+                                   std::string(kMaxFrameBytes / 2, 'x'));
+    }
+    for (int i = 0; i < 10; ++i) { // cut, then closed by the client
+        BareConnection c(io, server_->port);
+        c.send_bytes(hello + header(v1::PING, 100) + "abc");
+        c.close();
+    }
+    good_->check_level();
+    // Every stalled connection is closed by the server, without a word; the good client is
+    // served meanwhile (and its pings keep it from idling out itself).
+    std::atomic<bool> all_closed = false;
+    std::thread waiter([&] {
+        for (auto& c : stalled) EXPECT_FALSE(c->until_closed());
+        all_closed = true;
+    });
+    while (!all_closed) {
+        good_->ping();
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    waiter.join();
+    good_->check_level();
+    EXPECT_EQ(await_metric(server_->http_port, "ddsimp_connections", 1), 1);
+    // Each stalled full frame holds its payload buffer (the maximum frame) until it is closed.
+    expect_peak_within(kFullFrames * (kMaxFrameBytes + kConnectionOverhead) + kAllocatorSlack);
+}
+
+// Hundreds of connections that say Hello and nothing more fill the client limit: those past it
+// are refused with RESOURCE_EXHAUSTED, the good client (already in) keeps being served, and once
+// the idle ones leave there is room again. Silent connections are closed by the handshake timeout.
+TEST_F(HostileClients, HundredsOfIdleConnectionsMeetTheClientLimit) {
+    constexpr size_t kMaxClients = 256, kIdle = 300;
+    start({"--max-clients", std::to_string(kMaxClients), "--handshake-timeout", "2"});
+    asio::io_context io;
+    std::vector<std::unique_ptr<BareConnection>> idle;
+    size_t welcomed = 0, refused = 0;
+    for (size_t i = 0; i < kIdle; ++i) {
+        auto c = std::make_unique<BareConnection>(io, server_->port);
+        c->send(hello_message());
+        const std::optional<protocol::Frame> f = c->next();
+        ASSERT_TRUE(f);
+        if (f->type == v1::WELCOME) {
+            ++welcomed;
+            idle.push_back(std::move(c));
+            continue;
+        }
+        const v1::Error e = protocol::parse_payload<v1::Error>(*f);
+        EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED);
+        EXPECT_NE(e.message().find("maximum of 256 clients"), std::string::npos) << e.message();
+        EXPECT_FALSE(c->until_closed());
+        ++refused;
+    }
+    // The good client holds one place; the idle ones fill the rest, and only the rest.
+    EXPECT_EQ(welcomed, kMaxClients - 1);
+    EXPECT_EQ(refused, kIdle - (kMaxClients - 1));
+    EXPECT_EQ(metric(server_->http_port, "ddsimp_connections"), kMaxClients);
+    good_->check_level();
+    expect_peak_within(kMaxClients * kConnectionOverhead + kAllocatorSlack);
+
+    idle.clear(); // they leave: there is room again
+    EXPECT_EQ(await_metric(server_->http_port, "ddsimp_connections", 1), 1);
+    RawClient newcomer(server_->port);
+    EXPECT_NO_THROW(newcomer.hello({}));
+
+    // Connections that never say anything are closed after the handshake timeout.
+    std::vector<std::unique_ptr<BareConnection>> silent;
+    for (int i = 0; i < 200; ++i)
+        silent.push_back(std::make_unique<BareConnection>(io, server_->port));
+    for (auto& c : silent) EXPECT_FALSE(c->until_closed()); // closed without a word
+    good_->check_level();
+    EXPECT_EQ(await_metric(server_->http_port, "ddsimp_connections", 2), 2);
+}
+
+// A client that stops reading in the middle of a large mesh: its queue never grows past the
+// configured bound, it is dropped when its writes stall for the send timeout, what it had
+// queued is released, and the good client is served throughout.
+TEST_F(HostileClients, AReaderThatStopsMidMeshIsDroppedWithinItsQueueBound) {
+    constexpr size_t kQueueMiB = 64, kCacheMiB = 64;
+    start({"--send-timeout", "2", "--max-queue-mb", std::to_string(kQueueMiB), "--cache-mb",
+           std::to_string(kCacheMiB)});
+    const Surface big = with_test_fields(icosphere(7)); // 327680 triangles, ~12 MB raw
+    const std::string id = good_->raw().upload(big, 7).surface();
+    // The good client computes the record first, so the attack adds only levels and queues.
+    good_->raw().send(level_request(id, {0.01f}, 70));
+    good_->raw().level();
+    good_->raw().expect<v1::RequestDone>();
+    baseline_ = server_->status_bytes("VmHWM");
+
+    RawClient slow(server_->port);
+    slow.hello({});
+    slow.socket().set_option(boost::asio::socket_base::receive_buffer_size(4096));
+    // Four near-full levels, ~34 MB: more than loopback's socket buffers hold.
+    slow.send(level_request(id, {1.0f, 0.99f, 0.98f, 0.97f}, 1));
+    ASSERT_TRUE(slow.next()); // it reads the beginning of the first level, then nothing
+    for (int i = 0; i < 600 && metric(server_->http_port, "ddsimp_connections_dropped_total") < 1;
+         ++i) {
+        good_->ping();
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    EXPECT_EQ(metric(server_->http_port, "ddsimp_connections_dropped_total"), 1);
+    good_->check_level();
+    EXPECT_LE(metric(server_->http_port, "ddsimp_client_queue_bytes_max"), kQueueMiB * kMiB);
+    // Nothing stays queued for the dropped client.
+    EXPECT_EQ(await_metric(server_->http_port, "ddsimp_queue_bytes", 0), 0);
+    // The levels live in the result cache (bounded) and, beyond it, only in the client's queue.
+    expect_peak_within((kCacheMiB + kQueueMiB) * kMiB + kAllocatorSlack);
+}
+
+} // namespace
+} // namespace ddsimp::test
