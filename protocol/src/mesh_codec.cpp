@@ -92,7 +92,7 @@ void check_fields(const BlobLayout& layout, const DecodeLimits& limits) {
                             " allowed)");
     if (layout.encoding != v1::RAW && layout.encoding != v1::MESHOPT)
         throw BlobError("unknown encoding " + std::to_string(int(layout.encoding)));
-    // The codec itself does not check (it would overrun a 256-byte buffer).
+    // The codec itself only asserts it (and would overrun a 256-byte buffer without assertions).
     if (layout.encoding == v1::MESHOPT && !codec_holds(layout.fields))
         throw BlobError("a meshopt blob with a field of more than 64 components");
     if (layout.section_bytes.size() != 2 + layout.fields.size())

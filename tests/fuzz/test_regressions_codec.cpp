@@ -77,9 +77,10 @@ TEST(FuzzRegressions, RawRefinementSectionsAreCheckedBeforeAllocating) {
     }
 }
 
-// meshopt's vertex codec copies a vertex into a 256-byte buffer without checking its size: a
-// meshopt blob with a field of more than 64 components is refused (the encoder never makes one,
-// it falls back to raw).
+// refinement, crash-8c9e33cd…: a meshopt blob with a field of more than 64 components (a vertex
+// of more than 256 bytes) reached meshopt_decodeVertexBuffer, which asserts against it (an abort
+// in Debian's build; without assertions it would overrun a 256-byte buffer). It is refused: the
+// encoder never makes one, it falls back to raw.
 TEST(FuzzRegressions, MeshoptFieldsOfMoreThan64ComponentsAreRefused) {
     const std::string blob(2000, '\0');
     const std::string why =
