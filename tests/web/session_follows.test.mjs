@@ -41,3 +41,23 @@ test('a second page in the session follows the first', async () => {
   assert.deepEqual(first.errors, []);
   assert.deepEqual(second.errors, []);
 });
+
+test('a session key keeps a page with another key out', async () => {
+  const url = `${env.server.url}/?session=keyed`;
+  const a = await env.browser.newPage(`${url}&key=k1`);
+  await waitForTriangles(a, (n) => n > 0, 'shown on the first page');
+  const b = await env.browser.newPage(`${url}&key=k1`);
+  await waitForTriangles(b, (n) => n > 0, 'shown on the second page');
+  const stranger = await env.browser.newPage(`${url}&key=other`);
+  await waitForTriangles(stranger, (n) => n > 0, 'shown on the stranger\'s page');
+  await a.getByTestId('session').filter({ hasText: /2 members/ }).waitFor({ timeout: WAIT_MS });
+  await stranger.getByTestId('session').filter({ hasText: /1 member,/ })
+    .waitFor({ timeout: WAIT_MS });
+
+  await setRange(a, 'level', 0.3);
+  await waitForValue(b, 'level', '0.3');
+  // The stranger's session of the same name is another session: it did not move.
+  await waitForTriangles(b, (n) => n <= 226, 'at most floor(0.3 * 756) on the second page');
+  assert.equal(await stranger.getByTestId('level').inputValue(), '0.5');
+  assert.match(await stranger.getByTestId('session').textContent(), /1 member,/);
+});
