@@ -16,7 +16,9 @@
 #   runc and the host's limits; the probe says which, and --print-run-command prints the
 #   command to run the image with: `$(deploy/build-image.sh --print-run-command) ... ddsimp-server`.
 #
-# Environment: DDSIMP_IMAGE_ENGINE=docker|podman to choose, DDSIMP_DEBIAN_SUITE (bookworm).
+# Environment: DDSIMP_IMAGE_ENGINE=docker|podman to choose, DDSIMP_DEBIAN_SUITE (bookworm);
+# NODE_EXTRA_CA_CERTS, a file of CA certificates that npm must trust in the web stage (a proxy
+# that intercepts TLS), passed as the build secret npm_ca.
 # Must run as root for the base images (debootstrap); the build itself also works rootless.
 set -euo pipefail
 
@@ -59,9 +61,15 @@ if [[ ! -f $root/web/package.json ]]; then
     exit 1
 fi
 
+build_options=(--build-arg "JOBS=$jobs")
+if [[ -n ${NODE_EXTRA_CA_CERTS:-} && -s $NODE_EXTRA_CA_CERTS ]]; then
+    say "npm in the web stage trusts $NODE_EXTRA_CA_CERTS (build secret npm_ca)"
+    build_options+=(--secret "id=npm_ca,src=$NODE_EXTRA_CA_CERTS")
+fi
+
 if [[ $engine == docker ]]; then
     [[ $base_only == 1 ]] && exit 0
-    exec nice docker build --build-arg "JOBS=$jobs" -f "$root/deploy/Dockerfile" -t "$tag" "$root"
+    exec nice docker build "${build_options[@]}" -f "$root/deploy/Dockerfile" -t "$tag" "$root"
 fi
 
 # --- podman: base images ------------------------------------------------------------------------
@@ -164,6 +172,7 @@ fi
 
 # --- podman: the image -----------------------------------------------------------------------------
 say "building $tag (cmake -j$jobs)"
-nice podman "${runtime_options[@]}" build --pull=never "${run_options[@]}" --build-arg "JOBS=$jobs" \
-    -f "$root/deploy/Dockerfile" -t "$tag" "$root"
+# --format docker: the OCI image format has no HEALTHCHECK (podman would drop it with a warning).
+nice podman "${runtime_options[@]}" build --pull=never --format docker "${run_options[@]}" \
+    "${build_options[@]}" -f "$root/deploy/Dockerfile" -t "$tag" "$root"
 podman images --format '{{.Repository}}:{{.Tag}} {{.Size}}' --filter "reference=$tag" >&2
