@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -16,6 +17,11 @@ std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
     return s;
+}
+
+// Sections "KEYWORD n" (a count and nothing else on the line).
+bool is_counted_section(const std::string& word) {
+    return word == "cell_types" || word == "point_data" || word == "cell_data";
 }
 
 bool is_cell_keyword(const std::string& word) {
@@ -78,12 +84,21 @@ std::string check_legacy_vtk_cells(const std::string& path) {
     if (version.find("Version 5") != std::string::npos) return ""; // offsets and connectivity
     const bool binary = lower(type).rfind("binary", 0) == 0;
     IntReader ints(in, binary);
+    std::set<std::string> sections; // a data set has each at most once
     while (std::getline(in, line)) {
         std::istringstream words(line);
         std::string keyword, extra;
         int64_t cells = 0, size = 0;
-        if (!(words >> keyword) || !is_cell_keyword(lower(keyword))) continue;
+        if (!(words >> keyword)) continue;
+        const std::string section = lower(keyword);
+        if (is_counted_section(section) && (words >> cells) && !(words >> extra)) {
+            // VTK 9.1 dereferences a null pointer at a second CELL_TYPES.
+            if (!sections.insert(section).second) return "a second " + keyword + " section";
+            continue;
+        }
+        if (!is_cell_keyword(section)) continue;
         if (!(words >> cells >> size) || (words >> extra)) continue; // not a cell array line
+        if (!sections.insert(section).second) return "a second " + keyword + " section";
         if (cells < 0 || size < 0)
             return keyword + ": " + std::to_string(cells) + " cells in " + std::to_string(size) +
                    " numbers";

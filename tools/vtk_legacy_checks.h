@@ -8,8 +8,9 @@ namespace ddsimp::io {
 // Legacy files (before format 5.1) list cells as one array of counts and ids: "POLYGONS n size"
 // (or VERTICES, LINES, TRIANGLE_STRIPS, CELLS), then `size` integers, for each of the n cells its
 // point count and that many point ids. VTK 9.1 walks that array without checking the counts
-// against its length, so a wrong count reads past the end (a crash, not an error). Returns "" if
-// every such array holds its cells, else what is wrong ("POLYGONS: cell 3 has -7 points").
+// against its length, so a wrong count reads past the end (a crash, not an error); a second
+// CELL_TYPES section crashes it too. Returns "" if every cell array holds its cells and no
+// section repeats, else what is wrong ("POLYGONS 4 16: cell 3 has -7 points").
 std::string check_legacy_vtk_cells(const std::string& path);
 
 } // namespace ddsimp::io
