@@ -9,6 +9,7 @@
 #include "ddsimp/client.h"
 #include "ddsimp/protocol/content_hash.h"
 
+#include <cstdlib>
 #include <regex>
 
 namespace ddsimp::test {
@@ -414,6 +415,33 @@ TEST(Security, TlsWithTokenAndSessionKey) {
     for (const SurfaceInfo& info : stranger.list_surfaces()) EXPECT_NE(info.surface, up.surface);
     EXPECT_EQ(client.request_levels(r)[0].triangles, levels[0].triangles);
 }
+
+#ifdef DDSIMP_CLI
+// `ddsimp remote upload --session S --session-key K` joins the session with its key before it
+// uploads (it used to upload without joining, so the server refused the session), and the
+// surface is then the session's only.
+TEST(Security, RemoteUploadIntoASessionWithItsKey) {
+    const fs::path dir = temp_dir("remote-key");
+    ServerProcess server(dir / "data", {"--sample", ""});
+    const std::string sample = std::string(DDSIMP_SAMPLE_DATA) + "/SurfaceVectors.vtk";
+    const std::string command = std::string(DDSIMP_CLI) + " remote upload " + sample +
+                                " --session lab --server 127.0.0.1:" + std::to_string(server.port) +
+                                " >" + (dir / "out").string();
+    ASSERT_EQ(std::system(("DDSIMP_SESSION_KEY=k-1 " + command).c_str()), 0);
+    std::ifstream out(dir / "out");
+    std::string line;
+    std::getline(out, line);
+    std::smatch id;
+    ASSERT_TRUE(std::regex_search(line, id, std::regex("\"surface\":\"([0-9a-f]{64})\""))) << line;
+    RawClient member(server.port), stranger(server.port);
+    member.hello({"sessions"});
+    stranger.hello({"sessions"});
+    join(member, "lab", "k-1");
+    join(stranger, "lab", "k-2");
+    EXPECT_TRUE(listed(member).count(id[1]));
+    EXPECT_FALSE(listed(stranger).count(id[1]));
+}
+#endif
 
 // Connections that never finish their TLS handshake count against --max-clients: those past it
 // are closed at once, clients already in are served, and the places come back when they go.
