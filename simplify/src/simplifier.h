@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ddsimp/ddsimp.h"
+#include "error_quadric.h"
 #include "indexed_heap.h"
 #include "weights.h"
 #include "working_mesh.h"
@@ -28,6 +29,7 @@ private:
         uint32_t halfedge;
         detail::Vec3 point;
         double along;        // position of `point` along the edge, for the data
+        double error;        // Terms::ErrorQuadrics: the error of both ends at `point`
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
@@ -50,6 +52,10 @@ private:
     // Re-classifies v and recomputes its weight.
     void refresh_vertex(uint32_t v);
     void refresh_key(uint32_t v); // vertex removal: the heap holds vertices
+    // Terms::ErrorQuadrics, vertex removal: v's error at the centre of its ring (its neighbours
+    // in fan order; on a boundary, of the two boundary neighbours that the removal joins), with
+    // their mean data: where a flat re-triangulation passes (infinite for a ring too large).
+    double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
 
     void refresh_around(const uint32_t* changed, size_t count);
     bool report_progress(size_t live, size_t target);
@@ -83,7 +89,10 @@ private:
     Options options_;
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
-    std::vector<float> weight_;
+    std::vector<float> weight_; // Terms::AngleDeficitGradient
+    // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
+    detail::ErrorQuadrics quadrics_;
+    bool quadric_terms_ = false, least_error_ = false;
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     detail::IndexedHeap heap_;
     std::vector<uint32_t> stamp_; // per heap id: last refresh_around that refreshed it

@@ -16,6 +16,10 @@ double orient(const double* p, const double* q, const double* r) {
     return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
+// A new triangle with 2 x area below this times the sum of its squared sides is a needle (shape
+// below ~3e-6 of an equilateral one's): refused.
+constexpr double kNeedle = 1e-5;
+
 // 1 for an equilateral triangle, towards 0 for a sliver.
 double shape(const double* p, const double* q, const double* r) {
     auto d2 = [](const double* a, const double* b) {
@@ -35,7 +39,23 @@ HeapKey Simplifier::removal_key(uint32_t v) const {
     mesh_.for_each_outgoing(v, [&](uint32_t h) {
         shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
     });
-    return {weight_[v], float(shortest)};
+    if (!quadric_terms_) return {weight_[v], float(shortest)};
+    uint32_t ring[kMaxValence];
+    size_t count = 0;
+    mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
+        if (count < kMaxValence) ring[count] = u;
+        ++count;
+    });
+    return {float(removal_error(v, ring, count)), float(shortest)};
+}
+
+double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count) const {
+    if (count > kMaxValence) return INFINITY;
+    if (mesh_.is_boundary_vertex(v)) { // the removal joins the fan's first and last neighbours
+        const uint32_t ends[2] = {ring[0], ring[count - 1]};
+        return quadrics_.at_mean(v, mesh_, ends, 2);
+    }
+    return quadrics_.at_mean(v, mesh_, ring, count);
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
@@ -227,8 +247,12 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
     for (size_t t = 0; t < plan.new_count; ++t) {
         const uint8_t* c = plan.triangles[t];
         const Vec3 p0 = mesh_.point(plan.ring[c[0]]);
-        const Vec3 tn =
-            cross(sub(mesh_.point(plan.ring[c[1]]), p0), sub(mesh_.point(plan.ring[c[2]]), p0));
+        const Vec3 p1 = mesh_.point(plan.ring[c[1]]), p2 = mesh_.point(plan.ring[c[2]]);
+        const Vec3 tn = cross(sub(p1, p0), sub(p2, p0));
+        // Nor be a needle on (nearly) collinear ring vertices, which the projection can miss.
+        const double sum = dot(sub(p1, p0), sub(p1, p0)) + dot(sub(p2, p1), sub(p2, p1)) +
+                           dot(sub(p0, p2), sub(p0, p2));
+        if (norm(tn) <= kNeedle * sum) return false;
         for (int k = 0; k < 3; ++k) {
             if (c[k] >= fan) continue;
             const Vec3& old = plan.star_normal[c[k]];
@@ -267,7 +291,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
             const double la = norm(after), lb = norm(before);
             const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
                                dot(sub(q, r), sub(q, r));
-            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
+            if (la <= kNeedle * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
                 (plan.star_faces_along &&
                  !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1])))
                 ok = false;
@@ -359,6 +383,10 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     }
     record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
     ++operations_;
+    // The input surface v stood for is now spanned by its ring's new triangles: its error quadric
+    // goes to them, shared equally.
+    if (quadric_terms_)
+        for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
     refresh_around(plan.ring, n);
 }
 
