@@ -11,6 +11,9 @@ namespace ddsimp {
 using namespace detail;
 
 namespace {
+// How far (in edge lengths) the least-error point may leave its edge sideways.
+constexpr double kMaxSideways = 0.5;
+
 bool on_line(VertexKind k) {
     return k == VertexKind::Line || k == VertexKind::Corner;
 }
@@ -172,6 +175,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     Vec3 p = scale(add(pa, pb), 0.5);
     // The error of both ends along the edge (error quadrics), from a at t = 0 to b at t = 1.
     SegmentError error;
+    bool off_edge = false;
     if (quadric_terms_ || least_error_) {
         const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
         error = quadrics_.along(a, pa, pb, fa, fb);
@@ -181,10 +185,23 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
         p = pa;
     else if (kb == VertexKind::Corner || (kb == VertexKind::Line && ka == VertexKind::Free))
         p = pb;
-    else if (least_error_)
-        p = add(pa, scale(sub(pb, pa), error.least()));
-    else if (ka == VertexKind::Free && kb == VertexKind::Free &&
-             options_.placement == Placement::VolumePreserving) {
+    else if (least_error_) {
+        const double t = error.least();
+        p = add(pa, scale(sub(pb, pa), t));
+        // Between two free ends the point may also leave the edge sideways, to where the error
+        // is least, keeping its projection on the edge (and so its data); not with the data
+        // alone (alpha = 0), which does not say where the surface is.
+        if (ka == VertexKind::Free && kb == VertexKind::Free && options_.alpha > 0) {
+            const Vec3 edge = sub(pb, pa);
+            const double length = norm(edge);
+            Vec3 d = quadrics_.sideways(a, b, p, scale(edge, 1 / length), mesh_.data_of(a),
+                                        mesh_.data_of(b), t);
+            const double l = norm(d);
+            if (l > kMaxSideways * length) d = scale(d, kMaxSideways * length / l);
+            if (l > 0) p = add(p, d), off_edge = true;
+        }
+    } else if (ka == VertexKind::Free && kb == VertexKind::Free &&
+               options_.placement == Placement::VolumePreserving) {
         // Volume between the star and the new star is linear in p: n . p = d (a plane); take
         // the point of that plane nearest the midpoint. Coordinates relative to the midpoint.
         const Vec3 mid = p;
@@ -227,8 +244,8 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     plan.error = 0;
     if (quadric_terms_) {
         // Off the edge (volume-preserving point): the error there, with the data it gets.
-        const bool on_edge =
-            p == pa || p == pb || least_error_ || options_.placement == Placement::Midpoint;
+        const bool on_edge = !off_edge && (p == pa || p == pb || least_error_ ||
+                                           options_.placement == Placement::Midpoint);
         if (!on_edge) {
             const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
             error = quadrics_.along(a, p, p, fa, fb);

@@ -144,24 +144,81 @@ SegmentError ErrorQuadrics::along(uint32_t v, const Vec3& xa, const Vec3& xb, co
     return e;
 }
 
-double ErrorQuadrics::at_mean(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
-                              size_t count) const {
+double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                               const double* weights, size_t count) const {
     if (count == 0) return 0;
+    auto weight = [&](size_t i) { return weights ? weights[i] : 1.0 / double(count); };
     const double* q = of(v);
     Vec3 x{0, 0, 0};
-    for (size_t i = 0; i < count; ++i) x = detail::add(x, mesh.point(points[i]));
-    x = scale(sub(scale(x, 1.0 / double(count)), centre), inv_diagonal);
+    for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));
+    x = scale(sub(x, centre), inv_diagonal);
     const Vec3 ax{q[0] * x[0] + q[1] * x[1] + q[2] * x[2], q[1] * x[0] + q[3] * x[1] + q[4] * x[2],
                   q[2] * x[0] + q[4] * x[1] + q[5] * x[2]};
     double e = dot(x, ax) + 2 * (q[6] * x[0] + q[7] * x[1] + q[8] * x[2]) + q[9];
     for (size_t j = 0; j < components; ++j) {
         double s = 0;
-        for (size_t i = 0; i < count; ++i) s += double(mesh.data_of(points[i])[offset[j]]);
-        s = (s / double(count) - low[j]) * inv_range[j];
+        for (size_t i = 0; i < count; ++i)
+            s += weight(i) * double(mesh.data_of(points[i])[offset[j]]);
+        s = (s - low[j]) * inv_range[j];
         const double* gj = q + 11 + 4 * j;
         e += q[10] * s * s - 2 * s * (gj[0] * x[0] + gj[1] * x[1] + gj[2] * x[2] + gj[3]);
     }
     return std::max(0.0, e);
+}
+
+Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis,
+                             const float* fa, const float* fb, double t) const {
+    if (inv_diagonal == 0) return {0, 0, 0};
+    // A and the error's half gradient g = A x + b - sum_j s_j G_j of both quadrics at x.
+    double a[6] = {0, 0, 0, 0, 0, 0};
+    const Vec3 y = scale(sub(x, centre), inv_diagonal);
+    Vec3 g{0, 0, 0};
+    for (uint32_t u : {v, w}) {
+        const double* q = of(u);
+        for (int k = 0; k < 6; ++k) a[k] += q[k];
+        g = detail::add(g, Vec3{q[6], q[7], q[8]});
+        for (size_t j = 0; j < components; ++j) {
+            const double s =
+                ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
+                inv_range[j];
+            const double* gj = q + 11 + 4 * j;
+            g = sub(g, scale(Vec3{gj[0], gj[1], gj[2]}, s));
+        }
+    }
+    auto times_a = [&](const Vec3& z) {
+        return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
+                    a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
+                    a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
+    };
+    g = detail::add(g, times_a(y));
+    // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
+    Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    u1 = sub(u1, scale(axis, dot(u1, axis)));
+    u1 = scale(u1, 1 / norm(u1));
+    const Vec3 u2 = cross(axis, u1);
+    const Vec3 au1 = times_a(u1), au2 = times_a(u2);
+    const double h11 = dot(u1, au1), h12 = dot(u1, au2), h22 = dot(u2, au2);
+    const double r[2] = {-dot(u1, g), -dot(u2, g)};
+    const double half = 0.5 * (h11 + h22);
+    const double spread = std::sqrt(0.25 * (h11 - h22) * (h11 - h22) + h12 * h12);
+    const double l1 = half + spread, l2 = half - spread;
+    if (!(l1 > 0)) return {0, 0, 0};
+    double e1[2] = {1, 0};
+    if (h12 != 0) {
+        e1[0] = l1 - h22, e1[1] = h12;
+        const double l = std::hypot(e1[0], e1[1]);
+        e1[0] /= l, e1[1] /= l;
+    } else if (h22 > h11)
+        e1[0] = 0, e1[1] = 1;
+    const double e2[2] = {-e1[1], e1[0]};
+    double d[2] = {0, 0};
+    const double c1 = (r[0] * e1[0] + r[1] * e1[1]) / l1;
+    d[0] += c1 * e1[0], d[1] += c1 * e1[1];
+    if (l2 > 1e-3 * l1) {
+        const double c2 = (r[0] * e2[0] + r[1] * e2[1]) / l2;
+        d[0] += c2 * e2[0], d[1] += c2 * e2[1];
+    }
+    return scale(detail::add(scale(u1, d[0]), scale(u2, d[1])), 1 / inv_diagonal);
 }
 
 } // namespace ddsimp::detail

@@ -18,6 +18,7 @@
 #include "working_mesh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -64,8 +65,20 @@ struct ErrorQuadrics {
     // data fb (raw positions and data records of the working mesh).
     SegmentError along(uint32_t v, const Vec3& xa, const Vec3& xb, const float* fa,
                        const float* fb) const;
-    // The error of vertex v's quadric at the mean position of `points`, with their mean data.
-    double at_mean(uint32_t v, const WorkingMesh& mesh, const uint32_t* points, size_t count) const;
+    // The offset from position x, perpendicular to the unit vector `axis`, that lowers the summed
+    // error of the quadrics of v and w most, their data held at the blend (1 - t) fa + t fb;
+    // directions the quadrics hardly determine are left out (a truncated inverse).
+    Vec3 sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis, const float* fa,
+                  const float* fb, double t) const;
+    // The error of vertex v's quadric at the blend sum_i weights[i] * points[i] of positions and
+    // data (weights summing to 1; nullptr: the mean).
+    double at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                    const double* weights, size_t count) const;
+    // Errors of v's quadric closer than this are equal (rounding).
+    double noise(uint32_t v) const {
+        const double* q = of(v);
+        return 1e-12 * (q[0] + q[3] + q[5] + q[10] + std::abs(q[9]));
+    }
 };
 
 } // namespace ddsimp::detail

@@ -124,6 +124,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (options.strategy == Strategy::VertexRemoval) {
         record_.write_begin_.push_back(0);
         ring_at_.assign(capacity, kNotInRing);
+        exact_.assign(capacity, 0);
     }
 
     const size_t n = surface.vertex_count();
@@ -194,6 +195,7 @@ void Simplifier::refresh_vertex(uint32_t v) {
             float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
                   (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
     if (!removal) return;
+    exact_[v] = 0;
     if ((k != VertexKind::Free && k != VertexKind::Line) || std::isinf(weight_[v]))
         heap_.erase(id_[v]);
     else

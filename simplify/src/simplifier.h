@@ -44,7 +44,8 @@ private:
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
         bool star_faces_along;                 // every star triangle faces its corners' way
         size_t new_count;
-        uint8_t triangles[kMaxValence][3];  // new triangles as indices into ring
+        uint8_t triangles[kMaxValence][3]; // new triangles as indices into ring
+        double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
     };
 
@@ -82,7 +83,13 @@ private:
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
     bool planar_triangulation(RemovalPlan& plan, const double (*xy)[2], const uint64_t* adjacent,
                               const detail::Vec3& axis) const;
-    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) const;
+    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
+                           const double (*xy)[2]) const;
+    // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
+    // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
+    // the data interpolated there; the nearest triangle's nearest point if none holds it.
+    double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
+                               const double (*xy)[2]) const;
     void apply_removal(const RemovalPlan& plan);
     void step_removal(uint32_t v);
 
@@ -123,6 +130,10 @@ private:
     // Vertex removal's scratch: a vertex's position in the ring being planned, or kNotInRing.
     static constexpr uint8_t kNotInRing = 0xff;
     mutable std::vector<uint8_t> ring_at_;
+    // Vertex removal with the error quadrics: a vertex's key is its error at the centre of its
+    // ring, an estimate; when it comes to the top, its planned re-triangulation's error replaces
+    // it if that is heavier, and exact_[v] says so until v's neighbourhood changes.
+    std::vector<uint8_t> exact_;
     ProgressiveRecord record_;
 };
 
