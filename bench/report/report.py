@@ -259,9 +259,9 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              "or duplicate triangle. A run counts only if its status is `ok` (it reached the "
              "target within 2% and reported no error); the others are listed, not hidden.\n")
     if RUNS["reused"]:
-        L.append(f"{RUNS['reused']} of {RUNS['all']} runs were taken from an earlier run's cache "
-                 "(`--resume`, `OUT/runs`) rather than run again; see the section below for "
-                 "which.\n")
+        L.append(f"{RUNS['reused']} of {RUNS['all']} results were read from the cache of earlier "
+                 "invocations (`--resume`, `OUT/runs`), which the time above does not include; the "
+                 "notes below, if any, say where they came from.\n")
     if baseline is not None or notes:
         L.append("## What changed in the library, and what it gained\n")
         if notes:
