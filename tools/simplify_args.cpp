@@ -39,8 +39,16 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
     command.add_option("--strategy", args.strategy, "edge (collapse) or vertex (removal)")
         ->check(CLI::IsMember({"edge", "vertex"}))
         ->capture_default_str();
-    command.add_option("--placement", args.placement, "Edge collapse point: midpoint or volume")
-        ->check(CLI::IsMember({"midpoint", "volume"}))
+    command
+        .add_option("--placement", args.placement,
+                    "Edge collapse point: least-error (on the edge), midpoint or volume")
+        ->check(CLI::IsMember({"least-error", "midpoint", "volume"}))
+        ->capture_default_str();
+    command
+        .add_option("--terms", args.terms,
+                    "What the weight measures: quadrics (error against the input) or paper "
+                    "(angle deficit and data gradient)")
+        ->check(CLI::IsMember({"quadrics", "paper"}))
         ->capture_default_str();
     command.add_option("--fields", args.fields, "Fields that drive the data term (default: all)")
         ->delimiter(',');
@@ -69,8 +77,10 @@ Options simplify_options(const SimplifyArgs& args, const CLI::App& command) {
     Options options;
     options.alpha = args.alpha;
     options.strategy = args.strategy == "vertex" ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
-    options.placement =
-        args.placement == "volume" ? Placement::VolumePreserving : Placement::Midpoint;
+    options.placement = args.placement == "volume"     ? Placement::VolumePreserving
+                        : args.placement == "midpoint" ? Placement::Midpoint
+                                                       : Placement::LeastError;
+    options.terms = args.terms == "paper" ? Terms::AngleDeficitGradient : Terms::ErrorQuadrics;
     options.keep_fraction = args.keep;
     options.target_triangles = command.count("--triangles") ? args.triangles : 0;
     options.max_weight = args.max_weight;

@@ -22,7 +22,8 @@ struct SimplifyArgs {
     size_t triangles = 0;
     double max_weight = Options{}.max_weight;
     std::string strategy = "edge";
-    std::string placement = "midpoint";
+    std::string placement = "least-error";
+    std::string terms = "quadrics";
     std::vector<std::string> fields;
     double feature_angle = Options{}.feature_angle;
     double line_tolerance = Options{}.line_tolerance;

@@ -1,11 +1,12 @@
 #!/usr/bin/python3
-"""How well do ddsimp's two weight terms predict the error that removing a vertex causes?
+"""How well do the paper's two weight terms predict the error that removing a vertex causes?
 
     diagnose.py SURFACE.vtp [SURFACE.vtp ...]
     diagnose.py --edges REDUCED.vtp [REDUCED.vtp ...]
 
 For every interior manifold vertex v of the input (one-ring closed, no boundary) it computes
-  - curv(v): the angle deficit |2pi - sum theta| / pi (ddsimp's curvature term), and
+  - curv(v): the angle deficit |2pi - sum theta| / pi (the paper's curvature term,
+    Terms::AngleDeficitGradient), and
     plane(v): the distance from v to the plane of its ring (centroid, area-weighted normal) over
     the mean ring edge length: what removing v does to the geometry (vtkDecimatePro's criterion);
   - grad(v): max_i |f_i - f|_1 / |x_i - x|_1 with each field divided by its range and lengths by

@@ -2,6 +2,7 @@
 """The fidelity and speed report: runs every reduction, one process each, and writes the report.
 
     report.py --build DIR --surfaces DIR --out DIR [--quick] [--scaling DIR] [--no-images]
+              [--baseline OLD/results.csv] [--notes FILE]
 
 For every surface in --surfaces, every level and every simplifier (ddsimp edge collapse and vertex
 removal at each alpha, meshoptimizer, vtkQuadricDecimation with attributes, vtkDecimatePro with
@@ -10,6 +11,9 @@ fresh process and prints its measurements. This script gathers them into results
 report.md with the tables and the goals checked, and the plots; with --scaling it times the
 simplifiers on surfaces of growing size (scaling.csv, time-vs-size.png). Rendered images come from
 render.py (run under Xvfb by run.sh). Needs python3-matplotlib.
+With --baseline (the results.csv of an earlier report) the goals are also counted on it, before
+and after, for the section that says what a library change gained; --notes adds a Markdown file
+(what was changed) to that section.
 """
 
 import argparse
@@ -137,6 +141,27 @@ def check_goals(rows):
     return out
 
 
+def load_rows(path):
+    """The rows of an earlier results.csv, typed like row_of's."""
+    rows = []
+    for r in csv.DictReader(open(path)):
+        for k in ("keep", "data_rms", "geometric_hausdorff", "data_max", "geometric_rms"):
+            r[k] = float(r[k]) if r[k] not in ("", None) else None
+        r["alpha"] = float(r["alpha"]) if r["alpha"] not in ("", None) else ""
+        r["topology_kept"] = r["topology_kept"] == "True"
+        rows.append(r)
+    return rows
+
+
+def goal_counts(goals):
+    """(data goals met, Hausdorff goals met, pairs) over both strategies, and per strategy."""
+    out = {"all": (sum(g["data_ok"] for g in goals), sum(g["hd_ok"] for g in goals), len(goals))}
+    for strategy in DDSIMP:
+        gs = [g for g in goals if g["strategy"] == strategy]
+        out[strategy] = (sum(g["data_ok"] for g in gs), sum(g["hd_ok"] for g in gs), len(gs))
+    return out
+
+
 # --- plots ------------------------------------------------------------------------------------
 
 def plot_data_error(rows, out_dir, surfaces):
@@ -208,7 +233,8 @@ def plot_scaling(scaling, out_dir):
 
 # --- the report -------------------------------------------------------------------------------
 
-def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed):
+def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed, baseline=None,
+                 notes=None):
     commit = os.environ.get("DDSIMP_REPORT_COMMIT") or subprocess.run(
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
         cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
@@ -232,6 +258,26 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              "loops and components equal to the input's, no new non-manifold edge, no degenerate "
              "or duplicate triangle. A run counts only if its status is `ok` (it reached the "
              "target within 2% and reported no error); the others are listed, not hidden.\n")
+    if RUNS["reused"]:
+        L.append(f"{RUNS['reused']} of {RUNS['all']} results were read from the cache of earlier "
+                 "invocations (`--resume`, `OUT/runs`), which the time above does not include; the "
+                 "notes below, if any, say where they came from.\n")
+    if baseline is not None or notes:
+        L.append("## What changed in the library, and what it gained\n")
+        if notes:
+            L.append(open(notes).read().strip() + "\n")
+        if baseline is not None:
+            before, after = goal_counts(check_goals(baseline)), goal_counts(goals)
+            L.append("| goal at 10% | before | after |")
+            L.append("|---|---|---|")
+            for key, name in [("all", "both strategies"), ("ddsimp-edge", "edge collapse"),
+                              ("ddsimp-vertex", "vertex removal")]:
+                b, a = before[key], after[key]
+                L.append(f"| data RMS at α=0 lowest ({name}) | {b[0]} of {b[2]} | "
+                         f"{a[0]} of {a[2]} |")
+                L.append(f"| Hausdorff at α=1 within {HAUSDORFF_GOAL}× ({name}) | "
+                         f"{b[1]} of {b[2]} | {a[1]} of {a[2]} |")
+            L.append("")
 
     L.append("## Goals at 10% of the triangles\n")
     L.append("| surface | strategy | data RMS at α=0 | best peer (data RMS) | data goal | "
@@ -326,10 +372,15 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
         f.write("\n".join(L) + "\n")
 
 
+RUNS = {"all": 0, "reused": 0}  # runs asked for, and those taken from the cache (--resume)
+
+
 def cached_run(cache_dir, key, deadline, run):
     """run() unless its result is cached (an interrupted report resumes) or the budget is spent."""
     path = os.path.join(cache_dir, key + ".json")
+    RUNS["all"] += 1
     if os.path.exists(path):
+        RUNS["reused"] += 1
         with open(path) as f:
             return json.load(f)
     if deadline and time.time() > deadline:
@@ -363,6 +414,8 @@ def main():
                     help="surface whose reductions at 10%% are written for render.py")
     ap.add_argument("--budget-minutes", type=float,
                     help="start no run after this; the rest is reported as 'not run'")
+    ap.add_argument("--baseline", help="results.csv of an earlier report: goals before and after")
+    ap.add_argument("--notes", help="Markdown file: what changed in the library since the baseline")
     ap.add_argument("--resume", action="store_true",
                     help="reuse the results of an earlier (interrupted) run in OUT/runs")
     args = ap.parse_args()
@@ -469,7 +522,9 @@ def main():
         spent += float(open(spent_file).read())
     with open(spent_file, "w") as f:
         f.write(f"{spent:.0f}\n")
-    write_report(rows, names, goals, scaling, args.out, args.quick, images, spent)
+    baseline = load_rows(args.baseline) if args.baseline else None
+    write_report(rows, names, goals, scaling, args.out, args.quick, images, spent, baseline,
+                 args.notes)
     print(f"report.py: wrote {args.out}/report.md, results.csv", file=sys.stderr)
 
 

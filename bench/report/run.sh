@@ -59,9 +59,14 @@ fi
 surfaces="$root/bench/data/report"
 "$here/make-surfaces.sh" "$build" "$surfaces"
 "$here/make-surfaces.sh" "$build" "$surfaces" --scaling
+# The committed report (bench/report/latest) is the baseline the goals are counted against;
+# changes.md says what changed in the library since.
+baseline=()
+[[ -f "$here/latest/results.csv" ]] && baseline+=(--baseline "$here/latest/results.csv")
+[[ -f "$here/changes.md" ]] && baseline+=(--notes "$here/changes.md")
 "$python" "$here/report.py" --build "$build" --surfaces "$surfaces" --out "$out" \
     --scaling "$surfaces" --render-surface earth --budget-minutes "${DDSIMP_REPORT_BUDGET:-40}" \
-    "${resume[@]}"
+    "${resume[@]}" "${baseline[@]}"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$python" "$here/render.py" \
     "$surfaces/earth.vtp" "$out/meshes" "$out/earth-10pct.png"
 echo "run.sh: wrote $out/report.md"

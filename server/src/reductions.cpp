@@ -24,7 +24,9 @@ std::string result_key(const ReductionParams& p) {
     char numbers[96];
     std::snprintf(numbers, sizeof numbers, "%.9g|%d|%d|%.9g", double(p.alpha), int(p.strategy),
                   int(p.placement), double(p.feature_angle));
-    std::string text = std::string(kAlgorithmVersion) + "|" + p.surface + "|" + numbers;
+    // The library's own version too: its output for the same options changes with it.
+    std::string text = std::string(kAlgorithmVersion) + "/" + std::to_string(algorithm_version) +
+                       "|" + p.surface + "|" + numbers;
     for (const std::string& f : p.gradient_fields) text += '\0' + f;
     return protocol::sha256_hex(text);
 }

@@ -11,6 +11,9 @@ namespace ddsimp {
 using namespace detail;
 
 namespace {
+// How far (in edge lengths) the least-error point may leave its edge sideways.
+constexpr double kMaxSideways = 0.5;
+
 bool on_line(VertexKind k) {
     return k == VertexKind::Line || k == VertexKind::Corner;
 }
@@ -43,6 +46,11 @@ bool Simplifier::collapsible(uint32_t h) const {
 }
 
 HeapKey Simplifier::collapse_key(uint32_t h) const {
+    if (quadric_terms_) {
+        CollapsePlan plan;
+        place(h, plan);
+        return {float(plan.error), length_[h]};
+    }
     return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
 }
 
@@ -165,12 +173,35 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
     const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
     Vec3 p = scale(add(pa, pb), 0.5);
+    // The error of both ends along the edge (error quadrics), from a at t = 0 to b at t = 1.
+    SegmentError error;
+    bool off_edge = false;
+    if (quadric_terms_ || least_error_) {
+        const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
+        error = quadrics_.along(a, pa, pb, fa, fb);
+        error += quadrics_.along(b, pa, pb, fa, fb);
+    }
     if (ka == VertexKind::Corner || (ka == VertexKind::Line && kb == VertexKind::Free))
         p = pa;
     else if (kb == VertexKind::Corner || (kb == VertexKind::Line && ka == VertexKind::Free))
         p = pb;
-    else if (ka == VertexKind::Free && kb == VertexKind::Free &&
-             options_.placement == Placement::VolumePreserving) {
+    else if (least_error_) {
+        const double t = error.least();
+        p = add(pa, scale(sub(pb, pa), t));
+        // Between two free ends the point may also leave the edge sideways, to where the error
+        // is least, keeping its projection on the edge (and so its data); not with the data
+        // alone (alpha = 0), which does not say where the surface is.
+        if (ka == VertexKind::Free && kb == VertexKind::Free && options_.alpha > 0) {
+            const Vec3 edge = sub(pb, pa);
+            const double length = norm(edge);
+            Vec3 d = quadrics_.sideways(a, b, p, scale(edge, 1 / length), mesh_.data_of(a),
+                                        mesh_.data_of(b), t);
+            const double l = norm(d);
+            if (l > kMaxSideways * length) d = scale(d, kMaxSideways * length / l);
+            if (l > 0) p = add(p, d), off_edge = true;
+        }
+    } else if (ka == VertexKind::Free && kb == VertexKind::Free &&
+               options_.placement == Placement::VolumePreserving) {
         // Volume between the star and the new star is linear in p: n . p = d (a plane); take
         // the point of that plane nearest the midpoint. Coordinates relative to the midpoint.
         const Vec3 mid = p;
@@ -210,6 +241,18 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     plan.along = ee > 0 ? std::clamp(dot(sub(p, pa), edge) / ee, 0.0, 1.0) : 0.5;
     plan.point = p;
     plan.halfedge = h;
+    plan.error = 0;
+    if (quadric_terms_) {
+        // Off the edge (volume-preserving point): the error there, with the data it gets.
+        const bool on_edge = !off_edge && (p == pa || p == pb || least_error_ ||
+                                           options_.placement == Placement::Midpoint);
+        if (!on_edge) {
+            const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
+            error = quadrics_.along(a, p, p, fa, fb);
+            error += quadrics_.along(b, p, p, fa, fb);
+        }
+        plan.error = error.at(plan.along);
+    }
 }
 
 void Simplifier::apply_collapse(const CollapsePlan& plan) {
@@ -265,6 +308,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     float* dn = m.data_of(n);
     for (size_t c = 0; c < m.stride; ++c)
         dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
+    if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
     for (size_t i = 0; i < count; ++i) {

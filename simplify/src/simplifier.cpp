@@ -124,28 +124,34 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (options.strategy == Strategy::VertexRemoval) {
         record_.write_begin_.push_back(0);
         ring_at_.assign(capacity, kNotInRing);
+        exact_.assign(capacity, 0);
     }
 
-    // Both terms, then their means over the vertices that can take part.
     const size_t n = surface.vertex_count();
-    std::vector<double> curvature(n), gradient(n);
-    parallel_for(n, options.threads, [&](size_t begin, size_t end) {
-        for (size_t v = begin; v < end; ++v) {
-            curvature[v] = mesh_.curvature(uint32_t(v));
-            gradient[v] = gradient_.at(mesh_, uint32_t(v));
-        }
-    });
+    quadric_terms_ = options.terms == Terms::ErrorQuadrics;
+    least_error_ =
+        options.strategy == Strategy::EdgeCollapse && options.placement == Placement::LeastError;
+    if (quadric_terms_ || least_error_) quadrics_.setup(mesh_, gradient_, options.alpha, capacity);
+    weight_.assign(capacity, 0);
+    // The paper's terms, then their means over the vertices that can take part.
+    std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);
+    if (!quadric_terms_)
+        parallel_for(n, options.threads, [&](size_t begin, size_t end) {
+            for (size_t v = begin; v < end; ++v) {
+                curvature[v] = mesh_.curvature(uint32_t(v));
+                gradient[v] = gradient_.at(mesh_, uint32_t(v));
+            }
+        });
     double sum_c = 0, sum_g = 0;
     size_t counted = 0;
-    for (uint32_t i = 0; i < n; ++i) { // in input order: the same sums as without the reorder
-        const uint32_t v = rank_[i];
+    for (uint32_t i = 0; i < n && !quadric_terms_; ++i) { // in input order: the same sums as
+        const uint32_t v = rank_[i];                      // without the reorder
         if (mesh_.kind[v] != VertexKind::Complex && mesh_.kind[v] != VertexKind::Dead)
             sum_c += curvature[v], sum_g += gradient[v], ++counted;
     }
     curvature_scale_ = sum_c > 0 ? double(counted) / sum_c : 0;
     gradient_scale_ = sum_g > 0 ? double(counted) / sum_g : 0;
-    weight_.assign(capacity, 0);
-    for (uint32_t v = 0; v < n; ++v)
+    for (uint32_t v = 0; v < n && !quadric_terms_; ++v)
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
     if (options.strategy == Strategy::EdgeCollapse) {
@@ -162,20 +168,34 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
 void Simplifier::refresh_vertex(uint32_t v) {
     // One fan walk: kind, valence, angle sum, steepest neighbour and, for vertex removal, the
     // shortest edge (the key's tie-break). Same values as classify, weight and removal_key.
+    // With the error quadrics, a vertex removal's weight is its error at the centre of its ring
+    // (see removal_error), and an edge's comes from its ends' quadrics (collapse_key).
     detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
     const bool removal = options_.strategy == Strategy::VertexRemoval;
+    const bool ring_error = removal && quadric_terms_;
     const detail::Vec3 p = mesh_.point(v);
     double shortest = INFINITY;
+    uint32_t ring[kMaxValence];
+    size_t ring_size = 0;
     const double angles = mesh_.classify(v, [&](uint32_t u, bool closing) {
-        steepest.consider(u);
+        if (ring_error) {
+            if (ring_size < kMaxValence) ring[ring_size] = u;
+            ++ring_size;
+        } else if (!quadric_terms_)
+            steepest.consider(u);
         if (removal && !closing)
             shortest = std::min(shortest, detail::norm(detail::sub(mesh_.point(u), p)));
     });
     const VertexKind k = mesh_.kind[v];
     const bool counted = k != VertexKind::Complex && k != VertexKind::Dead;
-    weight_[v] = float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
-                       (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
+    if (quadric_terms_)
+        weight_[v] = ring_error && counted ? float(removal_error(v, ring, ring_size)) : 0.0f;
+    else
+        weight_[v] =
+            float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
+                  (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
     if (!removal) return;
+    exact_[v] = 0;
     if ((k != VertexKind::Free && k != VertexKind::Line) || std::isinf(weight_[v]))
         heap_.erase(id_[v]);
     else
@@ -203,8 +223,14 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         const float before = weight_[v];
+        const VertexKind kind = mesh_.kind[v];
         refresh_vertex(v);
         lighter_[v] = weight_[v] < before;
+        // With the error quadrics an edge's key reads its ends' kinds (a pinned end keeps its
+        // place) and, for the volume-preserving point, their stars: then it may get lighter.
+        if (quadric_terms_)
+            lighter_[v] =
+                mesh_.kind[v] != kind || options_.placement == Placement::VolumePreserving;
         epoch_[v] = epoch;
     }
     ++stamp_now_;

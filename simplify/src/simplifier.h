@@ -4,6 +4,7 @@
 #pragma once
 
 #include "ddsimp/ddsimp.h"
+#include "error_quadric.h"
 #include "indexed_heap.h"
 #include "weights.h"
 #include "working_mesh.h"
@@ -28,6 +29,7 @@ private:
         uint32_t halfedge;
         detail::Vec3 point;
         double along;        // position of `point` along the edge, for the data
+        double error;        // Terms::ErrorQuadrics: the error of both ends at `point`
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
@@ -42,7 +44,8 @@ private:
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
         bool star_faces_along;                 // every star triangle faces its corners' way
         size_t new_count;
-        uint8_t triangles[kMaxValence][3];  // new triangles as indices into ring
+        uint8_t triangles[kMaxValence][3]; // new triangles as indices into ring
+        double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
     };
 
@@ -50,6 +53,10 @@ private:
     // Re-classifies v and recomputes its weight.
     void refresh_vertex(uint32_t v);
     void refresh_key(uint32_t v); // vertex removal: the heap holds vertices
+    // Terms::ErrorQuadrics, vertex removal: v's error at the centre of its ring (its neighbours
+    // in fan order; on a boundary, of the two boundary neighbours that the removal joins), with
+    // their mean data: where a flat re-triangulation passes (infinite for a ring too large).
+    double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
 
     void refresh_around(const uint32_t* changed, size_t count);
     bool report_progress(size_t live, size_t target);
@@ -76,14 +83,23 @@ private:
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
     bool planar_triangulation(RemovalPlan& plan, const double (*xy)[2], const uint64_t* adjacent,
                               const detail::Vec3& axis) const;
-    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) const;
+    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
+                           const double (*xy)[2]) const;
+    // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
+    // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
+    // the data interpolated there; the nearest triangle's nearest point if none holds it.
+    double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
+                               const double (*xy)[2]) const;
     void apply_removal(const RemovalPlan& plan);
     void step_removal(uint32_t v);
 
     Options options_;
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
-    std::vector<float> weight_;
+    std::vector<float> weight_; // Terms::AngleDeficitGradient
+    // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
+    detail::ErrorQuadrics quadrics_;
+    bool quadric_terms_ = false, least_error_ = false;
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     detail::IndexedHeap heap_;
     std::vector<uint32_t> stamp_; // per heap id: last refresh_around that refreshed it
@@ -114,6 +130,10 @@ private:
     // Vertex removal's scratch: a vertex's position in the ring being planned, or kNotInRing.
     static constexpr uint8_t kNotInRing = 0xff;
     mutable std::vector<uint8_t> ring_at_;
+    // Vertex removal with the error quadrics: a vertex's key is its error at the centre of its
+    // ring, an estimate; when it comes to the top, its planned re-triangulation's error replaces
+    // it if that is heavier, and exact_[v] says so until v's neighbourhood changes.
+    std::vector<uint8_t> exact_;
     ProgressiveRecord record_;
 };
 

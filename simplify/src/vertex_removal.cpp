@@ -16,6 +16,10 @@ double orient(const double* p, const double* q, const double* r) {
     return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]);
 }
 
+// A new triangle with 2 x area below this times the sum of its squared sides is a needle (shape
+// below ~3e-6 of an equilateral one's): refused.
+constexpr double kNeedle = 1e-5;
+
 // 1 for an equilateral triangle, towards 0 for a sliver.
 double shape(const double* p, const double* q, const double* r) {
     auto d2 = [](const double* a, const double* b) {
@@ -35,7 +39,23 @@ HeapKey Simplifier::removal_key(uint32_t v) const {
     mesh_.for_each_outgoing(v, [&](uint32_t h) {
         shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
     });
-    return {weight_[v], float(shortest)};
+    if (!quadric_terms_) return {weight_[v], float(shortest)};
+    uint32_t ring[kMaxValence];
+    size_t count = 0;
+    mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
+        if (count < kMaxValence) ring[count] = u;
+        ++count;
+    });
+    return {float(removal_error(v, ring, count)), float(shortest)};
+}
+
+double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count) const {
+    if (count > kMaxValence) return INFINITY;
+    if (mesh_.is_boundary_vertex(v)) { // the removal joins the fan's first and last neighbours
+        const uint32_t ends[2] = {ring[0], ring[count - 1]};
+        return quadrics_.at_blend(v, mesh_, ends, nullptr, 2);
+    }
+    return quadrics_.at_blend(v, mesh_, ring, nullptr, count);
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
@@ -193,11 +213,50 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         xy[i][0] = dot(d, e1), xy[i][1] = dot(d, e2);
     }
 
-    if (planar_triangulation(plan, xy, adjacent, axis)) return true;
+    if (planar_triangulation(plan, xy, adjacent, axis)) {
+        if (!quadric_terms_) return true;
+        plan.error = triangulation_error(plan, plan.triangles, plan.new_count, xy);
+        if (plan.error <= quadrics_.noise(v)) return true;
+        // The flattest triangulation may cut across a crease that a fan from one of its ends
+        // follows: the one with less error wins.
+        RemovalPlan fan = plan;
+        fan.new_count = 0;
+        if (fan_triangulation(fan, adjacent, xy) && fan.error + quadrics_.noise(v) < plan.error)
+            plan = fan;
+        return true;
+    }
     // A star too curved to project flat may still be closed by a fan from one of its vertices
     // (the half-edge collapse of v into it), checked in 3D instead.
     plan.new_count = 0;
-    return fan_triangulation(plan, adjacent);
+    return fan_triangulation(plan, adjacent, xy);
+}
+
+double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3],
+                                       size_t count, const double (*xy)[2]) const {
+    if (count == 0) { // a boundary ear: its two ends are joined
+        const uint32_t ends[2] = {plan.ring[0], plan.ring[plan.ring_size - 1]};
+        return quadrics_.at_blend(plan.vertex, mesh_, ends, nullptr, 2);
+    }
+    // Barycentric coordinates of the origin (v) in each new triangle: the one that holds it, or
+    // whose least coordinate is largest, clamped into it.
+    const double origin[2] = {0, 0};
+    double best[3] = {1, 0, 0}, best_least = -INFINITY;
+    size_t at = 0;
+    for (size_t t = 0; t < count; ++t) {
+        const double *a = xy[triangles[t][0]], *b = xy[triangles[t][1]], *c = xy[triangles[t][2]];
+        const double d = orient(a, b, c);
+        if (d == 0) continue;
+        const double w[3] = {orient(origin, b, c) / d, orient(a, origin, c) / d,
+                             orient(a, b, origin) / d};
+        const double least = std::min({w[0], w[1], w[2]});
+        if (least > best_least) best_least = least, at = t, std::copy(w, w + 3, best);
+    }
+    double sum = 0;
+    for (double& w : best) sum += (w = std::max(w, 0.0));
+    for (double& w : best) w = sum > 0 ? w / sum : 1.0 / 3;
+    const uint32_t corners[3] = {plan.ring[triangles[at][0]], plan.ring[triangles[at][1]],
+                                 plan.ring[triangles[at][2]]};
+    return quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3);
 }
 
 bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
@@ -227,8 +286,12 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
     for (size_t t = 0; t < plan.new_count; ++t) {
         const uint8_t* c = plan.triangles[t];
         const Vec3 p0 = mesh_.point(plan.ring[c[0]]);
-        const Vec3 tn =
-            cross(sub(mesh_.point(plan.ring[c[1]]), p0), sub(mesh_.point(plan.ring[c[2]]), p0));
+        const Vec3 p1 = mesh_.point(plan.ring[c[1]]), p2 = mesh_.point(plan.ring[c[2]]);
+        const Vec3 tn = cross(sub(p1, p0), sub(p2, p0));
+        // Nor be a needle on (nearly) collinear ring vertices, which the projection can miss.
+        const double sum = dot(sub(p1, p0), sub(p1, p0)) + dot(sub(p2, p1), sub(p2, p1)) +
+                           dot(sub(p0, p2), sub(p0, p2));
+        if (norm(tn) <= kNeedle * sum) return false;
         for (int k = 0; k < 3; ++k) {
             if (c[k] >= fan) continue;
             const Vec3& old = plan.star_normal[c[k]];
@@ -242,12 +305,26 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
     return true;
 }
 
-bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) const {
+bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
+                                   const double (*xy)[2]) const {
     const size_t n = plan.ring_size;
     const Vec3 centre = mesh_.point(plan.vertex);
     const double turn_cos = mesh_.limits.normal_turn_cos;
-    double best_shape = -1;
+    double best_shape = -1, best_error = INFINITY;
     size_t best = n;
+    // With the error quadrics the fan of least error wins (the best shape among equals).
+    const double noise = quadric_terms_ ? quadrics_.noise(plan.vertex) : 0;
+    auto fan_error = [&](size_t j) {
+        uint8_t triangles[kMaxValence][3];
+        size_t count = 0;
+        for (size_t k = 1; k + 1 < n; ++k) {
+            const size_t i = (j + k) % n, i1 = (i + 1) % n;
+            if (plan.boundary && i == n - 1) break;
+            triangles[count][0] = uint8_t(j), triangles[count][1] = uint8_t(i);
+            triangles[count++][2] = uint8_t(i1);
+        }
+        return triangulation_error(plan, triangles, count, xy);
+    };
     for (size_t j = 0; j < n; ++j) {
         // On a boundary the fan must keep the new boundary edge; on a feature line, its edge.
         if (plan.boundary && j != 0 && j != n - 1) continue;
@@ -256,8 +333,9 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
         double worst = 1;
         bool ok = true;
         // Triangle (j, i, i + 1) replaces the star's (v, i, i + 1): v moves onto ring[j].
-        // worst only falls, so j cannot win once it is no better than the best so far.
-        for (size_t k = 1; k + 1 < n && ok && worst > best_shape; ++k) {
+        // worst only falls, so j cannot win once it is no better than the best so far (by
+        // shape alone: the paper's terms).
+        for (size_t k = 1; k + 1 < n && ok && (quadric_terms_ || worst > best_shape); ++k) {
             const size_t i = (j + k) % n, i1 = (i + 1) % n;
             if (plan.boundary && i == n - 1) break;
             if (k >= 2 && (adjacent[j] >> i & 1)) ok = false; // the diagonal j-i exists
@@ -267,16 +345,23 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
             const double la = norm(after), lb = norm(before);
             const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
                                dot(sub(q, r), sub(q, r));
-            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
+            if (la <= kNeedle * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
                 (plan.star_faces_along &&
                  !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1])))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);
         }
-        if (ok && worst > best_shape) best_shape = worst, best = j;
+        if (!ok) continue;
+        if (quadric_terms_) {
+            const double error = fan_error(j);
+            if (error < best_error - noise || (error <= best_error + noise && worst > best_shape))
+                best_error = std::min(error, best_error), best_shape = worst, best = j;
+        } else if (worst > best_shape)
+            best_shape = worst, best = j;
     }
     if (best == n) return false;
+    plan.error = quadric_terms_ ? fan_error(best) : 0;
     for (size_t k = 1; k + 1 < n; ++k) {
         const size_t i = (best + k) % n, i1 = (i + 1) % n;
         if (plan.boundary && i == n - 1) break;
@@ -359,14 +444,26 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     }
     record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
     ++operations_;
+    // The input surface v stood for is now spanned by its ring's new triangles: its error quadric
+    // goes to them, shared equally.
+    if (quadric_terms_)
+        for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
     refresh_around(plan.ring, n);
 }
 
 void Simplifier::step_removal(uint32_t v) {
+    const HeapKey key = heap_.top_key();
     heap_.erase(id_[v]);
     RemovalPlan plan;
-    if (plan_removal(v, plan)) apply_removal(plan);
     // Otherwise v stays out until a change in its neighbourhood puts it back.
+    if (!plan_removal(v, plan)) return;
+    // The key was an estimate (see exact_): a heavier re-triangulation waits its turn.
+    if (quadric_terms_ && !exact_[v] && float(plan.error) > key.weight) {
+        exact_[v] = 1;
+        heap_.set(id_[v], HeapKey{float(plan.error), key.tie});
+        return;
+    }
+    apply_removal(plan);
 }
 
 } // namespace ddsimp

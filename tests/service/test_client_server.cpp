@@ -37,6 +37,8 @@ Surface offline(const Surface& input, double alpha, double keep) {
     Options o;
     o.alpha = alpha;
     o.keep_fraction = keep;
+    // The protocol's default placement (PLACEMENT_UNSPECIFIED), which the server uses.
+    o.placement = Placement::Midpoint;
     return simplify(input, o).surface;
 }
 

@@ -36,6 +36,8 @@ Surface offline(const Surface& in, float alpha, float keep, Strategy strategy) {
     o.alpha = alpha;
     o.strategy = strategy;
     o.keep_fraction = keep;
+    // The protocol's default placement (PLACEMENT_UNSPECIFIED), which the server uses.
+    o.placement = Placement::Midpoint;
     return simplify(in, o).surface;
 }
 

@@ -118,7 +118,8 @@ TEST_P(Simplify, SingleTriangleAndSquareCannotBeReduced) {
     }
 }
 
-// max_weight: alpha = 0 (weights from data only) on a 40x40 grid with f = max(0, x - 0.5).
+// max_weight with the paper's terms (Terms::AngleDeficitGradient): alpha = 0 (weights from data
+// only) on a 40x40 grid with f = max(0, x - 0.5).
 // Vertices with x < 0.5 see f = 0 at all neighbours: gradient 0. Vertices with x >= 0.5 (columns
 // 20..40, 21 * 41 = 861 of 1681) have a horizontal neighbour with |df| = h (f's range 0.5): all
 // the same gradient g > 0. Normalised to a mean of 1: 1681/861 = 1.95 for them, 0 for the rest.
@@ -136,6 +137,7 @@ Surface ramp_grid() {
 TEST_P(Simplify, WeightBoundStopsTheRun) {
     Surface in = ramp_grid();
     Options o = options();
+    o.terms = Terms::AngleDeficitGradient;
     o.alpha = 0.0;
     o.max_weight = 0.5;
     o.keep_fraction = 0.1;
@@ -155,6 +157,7 @@ TEST_P(Simplify, WeightBoundStopsTheRun) {
 // The bound is one of several stops: a target met first wins.
 TEST_P(Simplify, TargetBeforeWeightBound) {
     Options o = options();
+    o.terms = Terms::AngleDeficitGradient;
     o.alpha = 0.0;
     o.max_weight = 0.5;
     o.keep_fraction = 0.9; // 2880: reachable within the weightless left half
@@ -171,6 +174,7 @@ TEST_P(Simplify, WeightBoundBeforeAnyOperation) {
     Surface in = grid(10, 10);
     add_field(in, "f", 1, [](const Vec3& p) { return std::vector<double>{p[0]}; });
     Options o = options();
+    o.terms = Terms::AngleDeficitGradient;
     o.alpha = 0.0;
     o.max_weight = 0.5;
     Result r = simplify(in, o);
@@ -178,6 +182,60 @@ TEST_P(Simplify, WeightBoundBeforeAnyOperation) {
     EXPECT_FALSE(r.target_reached);
     EXPECT_EQ(r.operations, 0u);
     EXPECT_EQ(r.triangles_out, 200u);
+}
+
+// With the error quadrics (the default terms) the same ramp costs nothing where the data is
+// linear: a collapse or removal within x <= 0.5 or within x >= 0.5 puts a vertex where the input's
+// linear interpolation already has its (interpolated) value, so every such operation weighs 0 and
+// a bound of 1e-9 stops nothing there. What stays is the kink x = 0.5: no output triangle may
+// span it (its interpolation would differ from max(0, x - 0.5) inside), and every output vertex
+// keeps data equal to max(0, x - 0.5) at its position.
+TEST_P(Simplify, ErrorQuadricsSimplifyLinearDataForFree) {
+    Options o = options();
+    o.alpha = 0.0;
+    o.max_weight = 1e-9;
+    o.keep_fraction = 0.05; // 160: each side needs ~2 x 41 triangles to keep the kink's vertices
+    Result r = simplify(ramp_grid(), o);
+    EXPECT_LT(r.triangles_out, 3200u / 4) << describe(r.stop);
+    const Field& f = *r.surface.find_field("ramp");
+    for (size_t v = 0; v < r.surface.vertex_count(); ++v) {
+        const double x = r.surface.positions[3 * v];
+        EXPECT_NEAR(f.values[v], std::max(0.0, x - 0.5), 1e-6) << "vertex " << v << " x " << x;
+    }
+    for (size_t t = 0; t < r.surface.triangle_count(); ++t) {
+        double lo = 1, hi = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double x = r.surface.positions[3 * r.surface.triangles[3 * t + c]];
+            lo = std::min(lo, x), hi = std::max(hi, x);
+        }
+        EXPECT_FALSE(lo < 0.5 - 1e-6 && hi > 0.5 + 1e-6) << "triangle " << t << " spans the kink";
+    }
+    EXPECT_TRUE(topology_kept(analyze_topology(ramp_grid()), analyze_topology(r.surface)));
+}
+
+// A roof: the 40x40 grid folded along x = 0.5, z = 0.5 - |x - 0.5| (two planes at 45 degrees).
+// The crease vertices have no angle deficit (the paper's curvature is blind to it), but moving one
+// off the crease, or re-triangulating across it, leaves the two planes: with the error quadrics
+// and alpha = 1 the operations that keep each plane exact weigh 0 and come first, and 10%
+// (320 triangles, more than the ~2 x 41 each half needs to keep the crease's 41 vertices) is
+// reached without any output triangle leaving the roof: every triangle's centroid is on it.
+TEST_P(Simplify, ErrorQuadricsKeepACrease) {
+    Surface in = grid(40, 40);
+    for (size_t v = 0; v < in.vertex_count(); ++v)
+        in.positions[3 * v + 2] = float(0.5 - std::abs(in.positions[3 * v] - 0.5));
+    Options o = options();
+    o.alpha = 1.0;
+    o.keep_fraction = 0.1;
+    Result r = simplify(in, o);
+    EXPECT_TRUE(r.target_reached) << describe(r.stop);
+    for (size_t t = 0; t < r.surface.triangle_count(); ++t) {
+        double c[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k)
+            for (int a = 0; a < 3; ++a)
+                c[a] += r.surface.positions[3 * r.surface.triangles[3 * t + k] + a] / 3;
+        EXPECT_NEAR(c[2], 0.5 - std::abs(c[0] - 0.5), 1e-5) << "triangle " << t;
+    }
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(r.surface)));
 }
 
 // --- cancellation and progress -------------------------------------------------------------------

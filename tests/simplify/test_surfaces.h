@@ -737,7 +737,8 @@ inline void PrintTo(const Config& c, std::ostream* os) {
 }
 
 inline std::vector<Config> all_configs() {
-    return {{Strategy::EdgeCollapse, Placement::Midpoint, "EdgeMidpoint"},
+    return {{Strategy::EdgeCollapse, Placement::LeastError, "EdgeLeastError"},
+            {Strategy::EdgeCollapse, Placement::Midpoint, "EdgeMidpoint"},
             {Strategy::EdgeCollapse, Placement::VolumePreserving, "EdgeVolume"},
             {Strategy::VertexRemoval, Placement::Midpoint, "VertexRemoval"}};
 }

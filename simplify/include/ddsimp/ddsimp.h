@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 1;
+inline constexpr int algorithm_version = 2;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -120,10 +120,26 @@ enum class Strategy {
 };
 
 enum class Placement {
+    LeastError,       // the point of the edge where the error quadrics (see Terms) are least
     Midpoint,         // the middle of the edge
     VolumePreserving, // the point nearest the midpoint that keeps the enclosed volume (Gueziec)
-    // Either way, an end pinned by a boundary or feature line (see feature_angle) keeps its
-    // position: the new point goes there.
+    // In every case, an end pinned by a boundary or feature line (see feature_angle) keeps its
+    // position: the new point goes there. The new point's data is interpolated along the edge.
+};
+
+// What the two terms of the weight measure.
+enum class Terms {
+    // The error an operation introduces relative to the input surface and data: curv is the
+    // geometric error (area x squared distance to the input triangles' planes, lengths in
+    // bounding-box diagonals), grad the data error (area x squared difference to the input's
+    // linear interpolation, data in field ranges), both accumulated per vertex as quadrics and
+    // evaluated where the operation puts the vertex. An edge weighs the error of its two ends at
+    // the new point; a removed vertex the error of moving it onto its best neighbour.
+    ErrorQuadrics,
+    // Frank & Lang's: curv the absolute angle deficit / pi, grad the steepest neighbour's
+    // ||df||_1 / ||dx||_1 (see vertex_curvature, vertex_gradient), each divided by its mean over
+    // the input; an edge weighs the sum of its ends' weights.
+    AngleDeficitGradient,
 };
 
 enum class StopReason {
@@ -134,19 +150,22 @@ enum class StopReason {
 };
 
 struct Options {
-    // w = alpha * curvature + (1 - alpha) * gradient, both terms normalised to a mean of 1 over
-    // the input surface (a term that is 0 everywhere stays 0); alpha in [0, 1].
+    // w = alpha * curvature + (1 - alpha) * gradient, alpha in [0, 1]; what the terms measure
+    // and how they are made unit-free: see Terms.
     double alpha = 0.5;
+    Terms terms = Terms::ErrorQuadrics;
     Strategy strategy = Strategy::EdgeCollapse;
-    Placement placement = Placement::Midpoint;
+    Placement placement = Placement::LeastError;
 
     // Target: the first that is set wins: target_triangles, then keep_fraction.
     size_t target_triangles = 0; // stop at or below this many triangles (0: not set)
     double keep_fraction = 0.1;  // or this fraction of the repaired input's triangles
-    // Also stop when the lightest element's weight exceeds this (the "error bound" target).
+    // Also stop when the lightest element's weight exceeds this (the "error bound" target; with
+    // Terms::ErrorQuadrics a weight is an area in squared diagonals times a squared relative
+    // error).
     double max_weight = std::numeric_limits<double>::infinity();
 
-    // Fields that drive the gradient term; empty means all fields.
+    // Fields that drive the gradient (data) term; empty means all fields.
     std::vector<std::string> gradient_fields;
     // An edge whose two triangles' normals differ by more than this (degrees) is a feature edge;
     // 180 disables features.

@@ -1,0 +1,224 @@
+#include "error_quadric.h"
+
+#include <cmath>
+
+namespace ddsimp::detail {
+
+double SegmentError::least() const {
+    double t = 0.5;
+    if (g > 0)
+        t = std::clamp(-h / g, 0.0, 1.0);
+    else if (2 * h + g != 0)
+        t = 2 * h + g < 0 ? 1.0 : 0.0; // E(1) - E(0) = 2h + g
+    // A gain within rounding is no gain: keep the midpoint, which shapes triangles best.
+    return at(0.5) <= at(t) + noise ? 0.5 : t;
+}
+
+namespace {
+
+// The quadric of one plane n.x + e = 0 (n of unit length) with weight w, added to q.
+void add_plane(double* q, const Vec3& n, double e, double w) {
+    q[0] += w * n[0] * n[0], q[1] += w * n[0] * n[1], q[2] += w * n[0] * n[2];
+    q[3] += w * n[1] * n[1], q[4] += w * n[1] * n[2], q[5] += w * n[2] * n[2];
+    for (int k = 0; k < 3; ++k) q[6 + k] += w * e * n[k];
+    q[9] += w * e * e;
+}
+
+} // namespace
+
+void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double alpha,
+                          size_t capacity) {
+    // Scales: the bounding box of the live vertices, each counted component's range.
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const size_t m_all = alpha < 1 ? gradient.components.size() : 0;
+    offset.assign(m_all, 0), low.assign(m_all, INFINITY), inv_range.assign(m_all, 0);
+    for (size_t j = 0; j < m_all; ++j)
+        offset[j] = gradient.components[j].first, inv_range[j] = gradient.components[j].second;
+    for (uint32_t v = 0; v < mesh.vertex_count; ++v) {
+        if (mesh.kind[v] == VertexKind::Dead) continue;
+        const float* p = mesh.position_of(v);
+        for (int k = 0; k < 3; ++k)
+            lo[k] = std::min(lo[k], double(p[k])), hi[k] = std::max(hi[k], double(p[k]));
+        const float* f = mesh.data_of(v);
+        for (size_t j = 0; j < m_all; ++j) low[j] = std::min(low[j], double(f[offset[j]]));
+    }
+    const Vec3 extent{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+    const double diagonal = norm(extent);
+    inv_diagonal = diagonal > 0 ? 1 / diagonal : 0;
+    centre = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+    components = inv_diagonal > 0 ? m_all : 0;
+    size = 11 + 4 * components;
+    values.assign(capacity * size, 0.0);
+    if (inv_diagonal == 0) return; // a single point: nothing can move
+
+    auto position = [&](uint32_t v) { return scale(sub(mesh.point(v), centre), inv_diagonal); };
+    auto datum = [&](uint32_t v, size_t j) {
+        return (double(mesh.data_of(v)[offset[j]]) - low[j]) * inv_range[j];
+    };
+    std::vector<double> face(size);
+    const size_t halfedges = mesh.origin.size();
+    for (uint32_t t = 0; 3 * t < halfedges; ++t) {
+        const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1], mesh.origin[3 * t + 2]};
+        if (v[0] == kNone) continue;
+        const Vec3 x0 = position(v[0]), e1 = sub(position(v[1]), x0), e2 = sub(position(v[2]), x0);
+        const Vec3 normal = cross(e1, e2);
+        const double nn = dot(normal, normal);
+        if (!(nn > 0)) continue; // no plane, no gradient
+        const double area = 0.5 * std::sqrt(nn);
+        std::fill(face.begin(), face.end(), 0.0);
+        const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
+        if (alpha > 0) add_plane(face.data(), unit, -dot(unit, x0), alpha * area);
+        const double w = (1 - alpha) * area;
+        if (components > 0) face[10] = w;
+        // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
+        const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
+                   across2 = scale(cross(normal, e1), 1 / nn);
+        for (size_t j = 0; j < components; ++j) {
+            const double s0 = datum(v[0], j);
+            const Vec3 g = detail::add(scale(across1, datum(v[1], j) - s0),
+                                       scale(across2, datum(v[2], j) - s0));
+            const double d = s0 - dot(g, x0);
+            double* q = face.data();
+            q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];
+            q[3] += w * g[1] * g[1], q[4] += w * g[1] * g[2], q[5] += w * g[2] * g[2];
+            for (int k = 0; k < 3; ++k) q[6 + k] += w * d * g[k], q[11 + 4 * j + k] = w * g[k];
+            q[9] += w * d * d;
+            q[14 + 4 * j] = w * d;
+        }
+        for (uint32_t c : v)
+            for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
+    }
+    if (alpha == 0) return;
+    // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like a
+    // triangle on the edge, so that sliding a boundary vertex off its line costs what it does.
+    for (uint32_t h = 0; h < halfedges; ++h) {
+        if (mesh.origin[h] == kNone || mesh.twin[h] != kNone) continue;
+        const uint32_t a = mesh.origin[h], b = mesh.dest(h);
+        const Vec3 xa = position(a), edge = sub(position(b), xa);
+        const Vec3 normal = cross(edge, mesh.triangle_normal(h / 3));
+        const double nn = norm(normal);
+        if (!(nn > 0)) continue;
+        const Vec3 unit = scale(normal, 1 / nn);
+        std::fill(face.begin(), face.end(), 0.0);
+        add_plane(face.data(), unit, -dot(unit, xa), alpha * dot(edge, edge));
+        for (uint32_t c : {a, b})
+            for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
+    }
+}
+
+void ErrorQuadrics::add(uint32_t to, uint32_t from, double scale) {
+    double* q = of(to);
+    const double* r = of(from);
+    for (size_t i = 0; i < size; ++i) q[i] += scale * r[i];
+}
+
+SegmentError ErrorQuadrics::along(uint32_t v, const Vec3& xa, const Vec3& xb, const float* fa,
+                                  const float* fb) const {
+    const double* q = of(v);
+    const Vec3 x = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
+    auto times_a = [&](const Vec3& y) {
+        return Vec3{q[0] * y[0] + q[1] * y[1] + q[2] * y[2],
+                    q[1] * y[0] + q[3] * y[1] + q[4] * y[2],
+                    q[2] * y[0] + q[4] * y[1] + q[5] * y[2]};
+    };
+    const Vec3 ax = times_a(x), adx = times_a(dx);
+    const Vec3 b{q[6], q[7], q[8]};
+    SegmentError e;
+    e.e0 = dot(x, ax) + 2 * dot(b, x) + q[9];
+    e.h = dot(dx, ax) + dot(b, dx);
+    e.g = dot(dx, adx);
+    const double w = q[10];
+    for (size_t j = 0; j < components; ++j) {
+        const double* gj = q + 11 + 4 * j;
+        const Vec3 g{gj[0], gj[1], gj[2]};
+        const double sa = (double(fa[offset[j]]) - low[j]) * inv_range[j];
+        const double ds = (double(fb[offset[j]]) - double(fa[offset[j]])) * inv_range[j];
+        const double gx = dot(g, x) + gj[3], gd = dot(g, dx);
+        e.e0 += w * sa * sa - 2 * sa * gx;
+        e.h += w * sa * ds - ds * gx - sa * gd;
+        e.g += w * ds * ds - 2 * ds * gd;
+    }
+    // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in ranges)
+    // weighted by A's trace and W: rounding leaves about 1e-12 of that.
+    e.noise = 1e-12 * (q[0] + q[3] + q[5] + w + std::abs(q[9]));
+    return e;
+}
+
+double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                               const double* weights, size_t count) const {
+    if (count == 0) return 0;
+    auto weight = [&](size_t i) { return weights ? weights[i] : 1.0 / double(count); };
+    const double* q = of(v);
+    Vec3 x{0, 0, 0};
+    for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));
+    x = scale(sub(x, centre), inv_diagonal);
+    const Vec3 ax{q[0] * x[0] + q[1] * x[1] + q[2] * x[2], q[1] * x[0] + q[3] * x[1] + q[4] * x[2],
+                  q[2] * x[0] + q[4] * x[1] + q[5] * x[2]};
+    double e = dot(x, ax) + 2 * (q[6] * x[0] + q[7] * x[1] + q[8] * x[2]) + q[9];
+    for (size_t j = 0; j < components; ++j) {
+        double s = 0;
+        for (size_t i = 0; i < count; ++i)
+            s += weight(i) * double(mesh.data_of(points[i])[offset[j]]);
+        s = (s - low[j]) * inv_range[j];
+        const double* gj = q + 11 + 4 * j;
+        e += q[10] * s * s - 2 * s * (gj[0] * x[0] + gj[1] * x[1] + gj[2] * x[2] + gj[3]);
+    }
+    return std::max(0.0, e);
+}
+
+Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis,
+                             const float* fa, const float* fb, double t) const {
+    if (inv_diagonal == 0) return {0, 0, 0};
+    // A and the error's half gradient g = A x + b - sum_j s_j G_j of both quadrics at x.
+    double a[6] = {0, 0, 0, 0, 0, 0};
+    const Vec3 y = scale(sub(x, centre), inv_diagonal);
+    Vec3 g{0, 0, 0};
+    for (uint32_t u : {v, w}) {
+        const double* q = of(u);
+        for (int k = 0; k < 6; ++k) a[k] += q[k];
+        g = detail::add(g, Vec3{q[6], q[7], q[8]});
+        for (size_t j = 0; j < components; ++j) {
+            const double s =
+                ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
+                inv_range[j];
+            const double* gj = q + 11 + 4 * j;
+            g = sub(g, scale(Vec3{gj[0], gj[1], gj[2]}, s));
+        }
+    }
+    auto times_a = [&](const Vec3& z) {
+        return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
+                    a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
+                    a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
+    };
+    g = detail::add(g, times_a(y));
+    // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
+    Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    u1 = sub(u1, scale(axis, dot(u1, axis)));
+    u1 = scale(u1, 1 / norm(u1));
+    const Vec3 u2 = cross(axis, u1);
+    const Vec3 au1 = times_a(u1), au2 = times_a(u2);
+    const double h11 = dot(u1, au1), h12 = dot(u1, au2), h22 = dot(u2, au2);
+    const double r[2] = {-dot(u1, g), -dot(u2, g)};
+    const double half = 0.5 * (h11 + h22);
+    const double spread = std::sqrt(0.25 * (h11 - h22) * (h11 - h22) + h12 * h12);
+    const double l1 = half + spread, l2 = half - spread;
+    if (!(l1 > 0)) return {0, 0, 0};
+    double e1[2] = {1, 0};
+    if (h12 != 0) {
+        e1[0] = l1 - h22, e1[1] = h12;
+        const double l = std::hypot(e1[0], e1[1]);
+        e1[0] /= l, e1[1] /= l;
+    } else if (h22 > h11)
+        e1[0] = 0, e1[1] = 1;
+    const double e2[2] = {-e1[1], e1[0]};
+    double d[2] = {0, 0};
+    const double c1 = (r[0] * e1[0] + r[1] * e1[1]) / l1;
+    d[0] += c1 * e1[0], d[1] += c1 * e1[1];
+    if (l2 > 1e-3 * l1) {
+        const double c2 = (r[0] * e2[0] + r[1] * e2[1]) / l2;
+        d[0] += c2 * e2[0], d[1] += c2 * e2[1];
+    }
+    return scale(detail::add(scale(u1, d[0]), scale(u2, d[1])), 1 / inv_diagonal);
+}
+
+} // namespace ddsimp::detail

@@ -1,0 +1,84 @@
+// Accumulated error quadrics: what moving a vertex (with its data) costs relative to the INPUT
+// surface and data, the default terms of the weight (see Options::terms).
+//
+// Geometry after Garland & Heckbert (1997): the sum, over the input triangles a vertex stands for,
+// of area x squared distance of the vertex to the triangle's plane. Data after Hoppe (1999): area x
+// squared difference between the vertex's data and the triangle's linear interpolation of the
+// input data at the vertex's position (projected into the triangle's plane). Positions are
+// measured in bounding-box diagonals and every data component in its field's range, the scales
+// `ddsimp compare` reports errors in, so both terms are unit-free in the same way and
+// alpha * geometric + (1 - alpha) * data is one quadric. Per vertex 11 + 4m numbers (m: the data
+// components that count, 0 when alpha = 1): A (6, symmetric 3x3), b (3), c, W, then per component
+// G (3) and D, with
+//     E(x, s) = x.A.x + 2 b.x + c + W s.s - 2 sum_j s_j (G_j.x + D_j).
+// A collapse adds its two ends' quadrics; a removal shares the vertex's among its ring.
+#pragma once
+
+#include "weights.h"
+#include "working_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+// The error along a segment from (xa, sa) to (xb, sb), as a function of the position t in [0, 1]:
+// E(t) = e0 + 2 h t + g t^2.
+struct SegmentError {
+    double e0 = 0, h = 0, g = 0;
+    // Scale of the rounding noise in E (errors closer than this are equal).
+    double noise = 0;
+
+    double at(double t) const { return std::max(0.0, e0 + (2 * h + g * t) * t); }
+    // The t of least error; the midpoint where the error does not tell (flat and linear).
+    double least() const;
+    SegmentError& operator+=(const SegmentError& o) {
+        e0 += o.e0, h += o.h, g += o.g, noise += o.noise;
+        return *this;
+    }
+};
+
+struct ErrorQuadrics {
+    size_t components = 0; // m
+    size_t size = 11;      // numbers per vertex
+    std::vector<double> values;
+    // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
+    Vec3 centre{0, 0, 0};
+    double inv_diagonal = 0;
+    std::vector<uint32_t> offset;
+    std::vector<double> low, inv_range;
+
+    // The quadrics of every live vertex of `mesh` (slots up to `capacity`), from its input
+    // triangles and, for the geometry, planes through its boundary edges perpendicular to the
+    // surface, so that a boundary keeps its shape. `gradient` says which data components count.
+    void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double alpha,
+               size_t capacity);
+
+    double* of(uint32_t v) { return &values[size_t(v) * size]; }
+    const double* of(uint32_t v) const { return &values[size_t(v) * size]; }
+    // q(to) += scale * q(from).
+    void add(uint32_t to, uint32_t from, double scale);
+
+    // The error of vertex v's quadric along the segment from position xa with data fa to xb with
+    // data fb (raw positions and data records of the working mesh).
+    SegmentError along(uint32_t v, const Vec3& xa, const Vec3& xb, const float* fa,
+                       const float* fb) const;
+    // The offset from position x, perpendicular to the unit vector `axis`, that lowers the summed
+    // error of the quadrics of v and w most, their data held at the blend (1 - t) fa + t fb;
+    // directions the quadrics hardly determine are left out (a truncated inverse).
+    Vec3 sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis, const float* fa,
+                  const float* fb, double t) const;
+    // The error of vertex v's quadric at the blend sum_i weights[i] * points[i] of positions and
+    // data (weights summing to 1; nullptr: the mean).
+    double at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                    const double* weights, size_t count) const;
+    // Errors of v's quadric closer than this are equal (rounding).
+    double noise(uint32_t v) const {
+        const double* q = of(v);
+        return 1e-12 * (q[0] + q[3] + q[5] + q[10] + std::abs(q[9]));
+    }
+};
+
+} // namespace ddsimp::detail
