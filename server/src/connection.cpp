@@ -44,7 +44,11 @@ void Connection::arm_idle_timer() {
     idle_timer_.expires_after(
         std::chrono::milliseconds(int64_t(1000 * service_.config().idle_timeout_s)));
     idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
-        if (auto self = weak.lock(); !ec && self) self->drop("idle for the idle timeout");
+        auto self = weak.lock();
+        if (ec || !self) return;
+        // Waiting for its own request is not idleness: a long simplification sends nothing.
+        if (!self->active_requests_.empty()) return self->arm_idle_timer();
+        self->drop("idle for the idle timeout");
     });
 }
 
