@@ -31,11 +31,13 @@ inline v1::Request level_request(const std::string& surface, std::vector<float> 
     return r;
 }
 
-// What `ddsimp simplify --alpha A --keep K` makes of the surface: what a level must equal.
+// What `ddsimp simplify --alpha A --keep K --placement midpoint` makes of the surface: what a
+// level must equal (midpoint: the protocol's default placement, which the server uses).
 inline Surface offline_level(const Surface& in, float alpha, float keep) {
     Options o;
     o.alpha = alpha;
     o.keep_fraction = keep;
+    o.placement = Placement::Midpoint;
     return simplify(in, o).surface;
 }
 
