@@ -52,7 +52,17 @@ public:
     }
     ~ServerProcess() { stop(SIGKILL); }
 
+    // Starts the server on two free ports. A port found free can be taken by another process
+    // before the server binds it (tests run in parallel, and every client connection takes an
+    // ephemeral port too): a server that exits before it listens is started again on new ports.
     void start() {
+        for (int attempt = 0; attempt < 5; ++attempt)
+            if (spawn()) return;
+        ADD_FAILURE() << "ddsimp-server did not start listening";
+    }
+
+    // One try of start(): true once the server listens, false if it exited before.
+    bool spawn() {
         port = free_port();
         http_port = free_port();
         std::vector<std::string> args{DDSIMP_SERVER_BINARY,
@@ -75,12 +85,18 @@ public:
             ::execv(argv[0], argv.data());
             ::_exit(127);
         }
-        // Ready when both ports accept.
+        // Ready when both ports accept; not starting if it exited first.
         for (int i = 0; i < 300; ++i) {
-            if (accepts(port) && accepts(http_port)) return;
+            if (accepts(port) && accepts(http_port)) return true;
+            int status = 0;
+            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                return false;
+            }
             std::this_thread::sleep_for(std::chrono::milliseconds(50));
         }
-        ADD_FAILURE() << "ddsimp-server did not start listening";
+        stop(SIGKILL); // neither listening nor gone after 15 s
+        return false;
     }
 
     // Sends `signal` and waits; returns the exit status (or -signal).
