@@ -19,28 +19,9 @@ if [[ -z "$build" ]]; then
     build="$root/build/release"
 fi
 
-free_port() {
-    python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-port=$(free_port)
-http_port=$(free_port)
-data_dir=$(mktemp -d)
-# shellcheck disable=SC2086
-"$build/server/ddsimp-server" --bind 127.0.0.1 --port "$port" --http-port "$http_port" \
-    --data-dir "$data_dir/store" --log-level warn ${DDSIMP_LOAD_SERVER_FLAGS:-} \
-    >"$data_dir/server.log" 2>&1 &
-server=$!
-cleanup() {
-    kill "$server" 2>/dev/null || true
-    wait "$server" 2>/dev/null || true
-    rm -rf "$data_dir"
-}
-trap cleanup EXIT
-for _ in $(seq 300); do
-    if python3 -c "import socket; socket.create_connection(('127.0.0.1', $port), 1)" 2>/dev/null
-    then break; fi
-    sleep 0.1
-done
+server_flags=${DDSIMP_LOAD_SERVER_FLAGS:-}
+# shellcheck source=bench/start-server.sh
+. "$root/bench/start-server.sh"
 status=0
 "$build/bench/load/ddsimp-load" --server "127.0.0.1:$port" --http-port "$http_port" \
     --server-pid "$server" "$@" || status=$?

@@ -29,26 +29,8 @@ if [[ ! -f "$surface" ]]; then
     DDSIMP="$build/tools/ddsimp" "$bench/make-data.sh"
 fi
 
-free_port() {
-    python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
-}
-port=$(free_port)
-http_port=$(free_port)
-data_dir=$(mktemp -d)
-log="$data_dir/server.log"
-"$build/server/ddsimp-server" --bind 127.0.0.1 --port "$port" --http-port "$http_port" \
-    --data-dir "$data_dir/store" --log-level warn >"$log" 2>&1 &
-server=$!
-cleanup() {
-    kill "$server" 2>/dev/null || true
-    wait "$server" 2>/dev/null || true
-    rm -rf "$data_dir"
-}
-trap cleanup EXIT
-for _ in $(seq 100); do
-    if curl -sf "http://127.0.0.1:$http_port/healthz" >/dev/null 2>&1; then break; fi
-    sleep 0.1
-done
+# shellcheck source=bench/start-server.sh
+. "$bench/start-server.sh"
 
 mkdir -p "$results"
 {
