@@ -27,15 +27,25 @@ double shape(const double* p, const double* q, const double* r) {
 
 } // namespace
 
-HeapKey Simplifier::removal_key(uint32_t v) const {
+// Free or on a line, and not refused since its star last changed.
+bool Simplifier::removable(uint32_t v) const {
     const VertexKind k = mesh_.kind[v];
-    if (k != VertexKind::Free && k != VertexKind::Line) return {};
+    if (k != VertexKind::Free && k != VertexKind::Line) return false;
+    return fail_[v] == 0 || epoch_[v] > fail_[v];
+}
+
+// The key: its weight, ties broken by its shortest edge (kept up to date by refresh_vertex).
+Key Simplifier::removal_key(uint32_t v) const {
+    return {weight_[v], shortest_[v]};
+}
+
+float Simplifier::shortest_edge(uint32_t v) const {
     double shortest = INFINITY;
     const Vec3 p = mesh_.point(v);
     mesh_.for_each_outgoing(v, [&](uint32_t h) {
         shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
     });
-    return {weight_[v], float(shortest)};
+    return float(shortest);
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
@@ -46,7 +56,8 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
     double extent = 0;
     for (size_t i = 0; i < plan.ring_size; ++i)
         extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
-    const double eps = 1e-12 * extent * extent;
+    // Twice the area below which an ear counts as flat (see WorkingMesh::degenerate).
+    const double eps = 1e-6 * extent * (extent + mesh_.coordinate_scale);
     // Ears found good, by their middle vertex, with their shape. An ear stays good while its
     // two neighbours stay: clipping only removes points that could lie inside it. A bad one is
     // tested again (a clipped point may have been what spoilt it).
@@ -267,7 +278,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent) 
             const double la = norm(after), lb = norm(before);
             const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
                                dot(sub(q, r), sub(q, r));
-            if (la <= 1e-12 * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
+            if (mesh_.degenerate(la, std::sqrt(sum)) ||
+                (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
                 (plan.star_faces_along &&
                  !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1])))
                 ok = false;
@@ -363,10 +375,12 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
 }
 
 void Simplifier::step_removal(uint32_t v) {
-    heap_.erase(id_[v]);
+    if (busy_[v] == pass_ || !removable(v)) return; // the next pass ranks it again
     RemovalPlan plan;
-    if (plan_removal(v, plan)) apply_removal(plan);
-    // Otherwise v stays out until a change in its neighbourhood puts it back.
+    if (plan_removal(v, plan))
+        apply_removal(plan);
+    else
+        fail_[v] = uint32_t(operations_ + 1); // no candidate until its star changes
 }
 
 } // namespace ddsimp

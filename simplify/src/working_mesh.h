@@ -83,6 +83,15 @@ struct WorkingMesh {
 
     size_t live_triangles = 0;
     Limits limits;
+    // The largest absolute coordinate of the input: positions are floats, so points that are
+    // collinear on paper are off their line by up to about 6e-8 times this.
+    double coordinate_scale = 0;
+
+    // Is a triangle with twice the area `twice_area` and edges of about `length` degenerate, i.e.
+    // flat up to the rounding of float positions (or to 1e-6 of its size)?
+    bool degenerate(double twice_area, double length) const {
+        return twice_area <= 1e-6 * length * (length + coordinate_scale);
+    }
 
     // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
     // `capacity` is the number of vertex slots to reserve.
