@@ -149,13 +149,13 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
             update_length(h);
             const uint32_t t = mesh_.twin[h];
-            if (t == kNone || h < t) pool_.push_back(h), listed_[h] = 1;
+            if (t == kNone || h < t) pool_.push_back({h, kNever, {}}), listed_[h] = 1;
         }
     } else {
         shortest_.assign(capacity, 0);
         for (uint32_t v = 0; v < n; ++v)
             if (mesh_.kind[v] != VertexKind::Dead)
-                shortest_[v] = shortest_edge(v), pool_.push_back(v), listed_[v] = 1;
+                shortest_[v] = shortest_edge(v), pool_.push_back({v, kNever, {}}), listed_[v] = 1;
     }
 }
 
@@ -202,28 +202,34 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
 void Simplifier::rank_candidates(size_t& share) {
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
     // The pool without what died, merged with what was born, in id order; every candidate with
-    // its key, in the same order.
+    // its key, in the same order. A key is computed again only if an end's star changed since
+    // (nothing else it reads can change), so a pass costs a sweep, not a key per candidate.
     if (!born_.empty()) {
         std::sort(born_.begin(), born_.end());
         const size_t old = pool_.size();
-        pool_.insert(pool_.end(), born_.begin(), born_.end());
-        std::inplace_merge(pool_.begin(), pool_.begin() + std::ptrdiff_t(old), pool_.end());
+        for (uint32_t id : born_) pool_.push_back({id, kNever, {}});
+        std::inplace_merge(pool_.begin(), pool_.begin() + std::ptrdiff_t(old), pool_.end(),
+                           [](const Member& a, const Member& b) { return a.id < b.id; });
         born_.clear();
     }
     scratch_.clear();
     size_t kept = 0;
-    for (uint32_t id : pool_) {
-        const bool live =
-            collapse ? mesh_.origin[id] != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
-                     : mesh_.kind[id] != VertexKind::Dead;
+    for (const Member& member : pool_) {
+        const uint32_t id = member.id;
+        const uint32_t a = collapse ? mesh_.origin[id] : id;
+        const bool live = collapse ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
+                                   : mesh_.kind[id] != VertexKind::Dead;
         if (!live) {
             listed_[id] = 0;
             continue;
         }
-        pool_[kept++] = id;
+        Member& m = pool_[kept++];
+        m = member;
         if (collapse ? !collapsible(id) : !removable(id)) continue;
-        const detail::Key key = collapse ? collapse_key(id) : removal_key(id);
-        if (!std::isinf(key.weight)) scratch_.push_back(detail::Candidate::make(key, id));
+        const uint32_t changed = std::max(busy_[a], collapse ? busy_[mesh_.dest(id)] : uint32_t(0));
+        if (m.keyed == kNever || changed > m.keyed)
+            m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
+        if (!std::isinf(m.key.weight)) scratch_.push_back(detail::Candidate::make(m.key, id));
     }
     pool_.resize(kept);
     share = scratch_.empty()

@@ -96,7 +96,14 @@ private:
     // The pool of candidates, in id order: every live edge (under its lower half-edge id) for
     // edge collapse, every live vertex for vertex removal; listed_[id] says whether id is in it,
     // born_ holds the edges a collapse made since the last pass (merged edges get new ids).
-    std::vector<uint32_t> pool_, born_;
+    // Each pool member keeps its key and the pass after which it was computed (kNever: not yet).
+    static constexpr uint32_t kNever = 0xffffffffu;
+    struct Member {
+        uint32_t id, keyed;
+        detail::Key key;
+    };
+    std::vector<Member> pool_;
+    std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
     std::vector<detail::Candidate> order_, scratch_; // the pass's lightest, sorted; all of them
     // busy_[v] == pass_: an operation of this pass changed v's star, so the pass leaves v alone
