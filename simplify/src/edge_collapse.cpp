@@ -135,7 +135,7 @@ bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref) const 
     const Vec3 after = cross(sub(q, p), sub(r, p));
     const double la = norm(after), lb = norm(before);
     const Vec3 qp = sub(q, p), rp = sub(r, p);
-    if (mesh_.degenerate(la, std::sqrt(dot(qp, qp) + dot(rp, rp)))) return false;
+    if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp))) return false;
     if (lb > 0 && dot(after, before) < mesh_.limits.normal_turn_cos * la * lb) return false;
     // It faced the way of the input surface and would no longer.
     if ((dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri)) &&

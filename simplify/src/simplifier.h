@@ -49,7 +49,7 @@ private:
     };
 
     // The share of a pass's candidates, lightest first, that the pass goes through.
-    static constexpr double kPassShare = 0.5;
+    static constexpr double kPassShare = 0.25;
 
     // simplifier.cpp: weights, passes, the main loop.
     // Re-classifies v and recomputes its weight (and, for vertex removal, its key's tie-break).

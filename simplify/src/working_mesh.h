@@ -87,8 +87,10 @@ struct WorkingMesh {
     // collinear on paper are off their line by up to about 6e-8 times this.
     double coordinate_scale = 0;
 
-    // Is a triangle with twice the area `twice_area` and edges of about `length` degenerate, i.e.
-    // flat up to the rounding of float positions (or to 1e-6 of its size)?
+    // Is a new triangle of vertex removal with twice the area `twice_area` and edges of about
+    // `length` degenerate, i.e. flat up to the rounding of float positions (or to 1e-6 of its
+    // size)? (Edge collapse refuses only exactly flat ones: with this test, a collapse next to
+    // any of the slivers of a marching-cubes surface far from the origin would be refused.)
     bool degenerate(double twice_area, double length) const {
         return twice_area <= 1e-6 * length * (length + coordinate_scale);
     }
