@@ -57,7 +57,7 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
     for (size_t i = 0; i < plan.ring_size; ++i)
         extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
     // Twice the area below which an ear counts as flat (see WorkingMesh::degenerate).
-    const double eps = 1e-6 * extent * (extent + mesh_.coordinate_scale);
+    const double eps = 1e-7 * extent * extent;
     // Ears found good, by their middle vertex, with their shape. An ear stays good while its
     // two neighbours stay: clipping only removes points that could lie inside it. A bad one is
     // tested again (a clipped point may have been what spoilt it).

@@ -14,8 +14,6 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
     for (const Field& f : s.fields) stride += size_t(f.components);
     record = 6 + stride;
     records.assign(record * capacity, 0.0f);
-    coordinate_scale = 0;
-    for (float x : s.positions) coordinate_scale = std::max(coordinate_scale, double(std::abs(x)));
     for (uint32_t v = 0; v < vertex_count; ++v) {
         std::copy_n(&s.positions[3 * size_t(v)], 3, position_of(v));
         float* d = data_of(v);

@@ -83,16 +83,12 @@ struct WorkingMesh {
 
     size_t live_triangles = 0;
     Limits limits;
-    // The largest absolute coordinate of the input: positions are floats, so points that are
-    // collinear on paper are off their line by up to about 6e-8 times this.
-    double coordinate_scale = 0;
 
     // Is a new triangle of vertex removal with twice the area `twice_area` and edges of about
-    // `length` degenerate, i.e. flat up to the rounding of float positions (or to 1e-6 of its
-    // size)? (Edge collapse refuses only exactly flat ones: with this test, a collapse next to
-    // any of the slivers of a marching-cubes surface far from the origin would be refused.)
-    bool degenerate(double twice_area, double length) const {
-        return twice_area <= 1e-6 * length * (length + coordinate_scale);
+    // `length` degenerate? Flat to 1e-7 of its size: points collinear on paper, such as three grid
+    // points on a diagonal, are off their line by float rounding (about 1e-8 of the size there).
+    static bool degenerate(double twice_area, double length) {
+        return twice_area <= 1e-7 * length * length;
     }
 
     // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
