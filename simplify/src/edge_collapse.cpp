@@ -317,10 +317,15 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     made_.insert(made_.end(), dn, dn + m.stride);
     ++operations_;
 
+    // n, then its apexes (which lost a neighbour and may have merged line flags), then the rest
+    // of its ring.
     uint32_t changed[2 * kMaxValence + 3];
     changed[0] = n;
     const size_t k = m.ring(n, changed + 1, 2 * kMaxValence + 2);
-    refresh_around(changed, k + 1);
+    size_t kept_from = 1;
+    for (size_t i = 1; i <= k; ++i)
+        if (changed[i] == x || changed[i] == y) std::swap(changed[i], changed[kept_from++]);
+    refresh_around(changed, k + 1, kept_from);
 }
 
 void Simplifier::step_collapse(uint32_t h) {

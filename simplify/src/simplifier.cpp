@@ -99,6 +99,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         mesh_.locked.assign(capacity, 0);
         for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
     }
+    mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
     mesh_.build(reordered(surface, id_, rank_), capacity, limits_from(options));
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
     // Edge collapse's ids are half-edges, vertex removal's vertices.
@@ -107,6 +108,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     listed_.assign(ids, 0);
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, 0);
+    rekey_.assign(capacity, 0);
     if (collapse) {
         fail_at_.assign(surface.triangles.size(), kNone);
         seen_.assign(capacity, 0);
@@ -203,13 +205,22 @@ void Simplifier::refresh_vertex(uint32_t v) {
 // recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
 // weight changed), and the rest of the pass leaves them alone. changed[0] is a collapse's new
 // vertex: its edges are new and join the pool.
-void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
+void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
     const uint32_t epoch = uint32_t(operations_ + 1);
+    // With the error quadrics, an edge's key reads its ends' quadrics, positions, data and kinds
+    // (and, for the volume-preserving point, their stars). The changed vertices from kept_from
+    // on kept all of these, and their edges their ends and line flags: a Free one stays Free
+    // with its valence (and weight_ is not used), and its edges' keys stand.
+    const bool collapse_quadrics = quadric_terms_ && options_.strategy == Strategy::EdgeCollapse;
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
-        refresh_vertex(v);
         epoch_[v] = epoch;
         busy_[v] = pass_;
+        const VertexKind kind = mesh_.kind[v];
+        const bool kept = collapse_quadrics && i >= kept_from;
+        if (!kept || kind != VertexKind::Free) refresh_vertex(v);
+        if (!kept || mesh_.kind[v] != kind || options_.placement == Placement::VolumePreserving)
+            rekey_[v] = pass_;
     }
     if (options_.strategy != Strategy::EdgeCollapse) return;
     const uint32_t n = changed[0];
@@ -247,7 +258,8 @@ void Simplifier::rank_candidates(size_t& share) {
         Member& m = pool_[kept++];
         m = member;
         if (collapse ? !collapsible(id) : !removable(id)) continue;
-        const uint32_t changed = std::max(busy_[a], collapse ? busy_[mesh_.dest(id)] : uint32_t(0));
+        const uint32_t changed =
+            std::max(rekey_[a], collapse ? rekey_[mesh_.dest(id)] : uint32_t(0));
         if (m.keyed == kNever || changed > m.keyed)
             m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
         if (!std::isinf(m.key.weight)) scratch_.push_back(detail::Candidate::make(m.key, id));

@@ -61,7 +61,9 @@ private:
     // in fan order; on a boundary, of the two boundary neighbours that the removal joins), with
     // their mean data: where a flat re-triangulation passes (infinite for a ring too large).
     double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
-    void refresh_around(const uint32_t* changed, size_t count);
+    // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
+    // ends and line flags (all but the apexes); vertex removal passes count.
+    void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
     // The next pass: the number of candidates it goes through into `share`, and at least that
     // many of the lightest candidates, sorted lightest first, into order_.
     void rank_candidates(size_t& share);
@@ -131,6 +133,9 @@ private:
     // busy_[v] == pass_: an operation of this pass changed v's star, so the pass leaves v alone
     // (and every weight an operation reads is the one of the current surface).
     std::vector<uint32_t> busy_;
+    // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
+    // changed; a pool member's key is computed again when an end's rekey_ is newer than it.
+    std::vector<uint32_t> rekey_;
     uint32_t pass_ = 0;
     // Refusals are remembered: fail_[id] is 1 + the operation count when the plan refused the
     // edge (per half-edge) or vertex; epoch_[v] is 1 + the operation count when v's star last

@@ -461,7 +461,7 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     // goes to them, shared equally.
     if (quadric_terms_)
         for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
-    refresh_around(plan.ring, n);
+    refresh_around(plan.ring, n, n);
 }
 
 void Simplifier::step_removal(uint32_t v) {
@@ -472,10 +472,10 @@ void Simplifier::step_removal(uint32_t v) {
         return;
     }
     // Its key was an estimate (see weight_): a heavier re-triangulation becomes its key, and
-    // the next pass ranks it with that (marked as changed, so that its key is read again).
+    // the next pass ranks it with that.
     if (quadric_terms_ && float(plan.error) > weight_[v]) {
         weight_[v] = float(plan.error);
-        busy_[v] = pass_;
+        rekey_[v] = pass_;
         return;
     }
     apply_removal(plan);

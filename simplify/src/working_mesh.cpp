@@ -26,7 +26,7 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
     origin.assign(s.triangles.begin(), s.triangles.end());
     twin.assign(halfedges, kNone);
     line.assign(halfedges, 0);
-    angle.assign(halfedges, 0.0f);
+    angle.assign(track_angles ? halfedges : 0, 0.0f);
     for (uint32_t t = 0; t < halfedges / 3; ++t) update_angles(t);
     live_triangles = s.triangle_count();
     kind.assign(capacity, VertexKind::Dead);
@@ -152,6 +152,7 @@ double corner_angle(double y, double x) {
 } // namespace
 
 void WorkingMesh::update_angles(uint32_t t) {
+    if (!track_angles) return;
     const Vec3 p[3] = {point(origin[3 * t]), point(origin[3 * t + 1]), point(origin[3 * t + 2])};
     for (int c = 0; c < 3; ++c) {
         const Vec3 a = sub(p[(c + 1) % 3], p[c]), b = sub(p[(c + 2) % 3], p[c]);
