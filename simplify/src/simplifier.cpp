@@ -207,20 +207,21 @@ void Simplifier::refresh_vertex(uint32_t v) {
 // vertex: its edges are new and join the pool.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
     const uint32_t epoch = uint32_t(operations_ + 1);
-    // With the error quadrics, an edge's key reads its ends' quadrics, positions, data and kinds
-    // (and, for the volume-preserving point, their stars). The changed vertices from kept_from
-    // on kept all of these, and their edges their ends and line flags: a Free one stays Free
-    // with its valence (and weight_ is not used), and its edges' keys stand.
+    // With the error quadrics, an edge's key reads only its ends' quadrics, positions, data and
+    // kinds (and, for the volume-preserving point, their stars). A collapse changes these for the
+    // new vertex, changed[0], and at most the kinds of the others: their edges keep their keys
+    // unless their kind changed. A kind can change only at the apexes (they lost a neighbour and
+    // may have merged line flags), changed[1..kept_from), and at ring vertices on a line; a Free
+    // vertex from kept_from on keeps its kind and valence (and weight_ is not used).
     const bool collapse_quadrics = quadric_terms_ && options_.strategy == Strategy::EdgeCollapse;
+    const bool star_keys = options_.placement == Placement::VolumePreserving;
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         epoch_[v] = epoch;
         busy_[v] = pass_;
         const VertexKind kind = mesh_.kind[v];
-        const bool kept = collapse_quadrics && i >= kept_from;
-        if (!kept || kind != VertexKind::Free) refresh_vertex(v);
-        if (!kept || mesh_.kind[v] != kind || options_.placement == Placement::VolumePreserving)
-            rekey_[v] = pass_;
+        if (!collapse_quadrics || i < kept_from || kind != VertexKind::Free) refresh_vertex(v);
+        if (!collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys) rekey_[v] = pass_;
     }
     if (options_.strategy != Strategy::EdgeCollapse) return;
     const uint32_t n = changed[0];
