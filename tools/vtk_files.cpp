@@ -30,7 +30,7 @@ vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path) {
 namespace {
 
 Surface read_legacy(const std::string& path, const std::string& context) {
-    if (const std::string problem = check_legacy_vtk_cells(path); !problem.empty())
+    if (const std::string problem = check_legacy_vtk(path); !problem.empty())
         throw IoError(context + ": " + problem);
     VtkMessageCapture messages;
     auto reader = legacy_reader(path);

@@ -10,6 +10,12 @@
 #include <sstream>
 #include <vector>
 
+#include "vtk_messages.h"
+
+#include <vtkFieldData.h>
+#include <vtkPolyDataReader.h>
+#include <vtkSmartPointer.h>
+
 namespace ddsimp::io {
 namespace {
 
@@ -72,25 +78,57 @@ std::string walk_cells(IntReader& ints, const std::string& keyword, int64_t cell
     return "";
 }
 
+// Checks a data set's FIELD section with VTK's own parser, from `offset` (just after the word
+// FIELD) on: "" if VTK reads it, else VTK's complaint.
+std::string check_field_data(const std::string& path, std::streamoff offset) {
+    VtkMessageCapture messages;
+    auto reader = vtkSmartPointer<vtkPolyDataReader>::New();
+    if (!reader->OpenVTKFile(path.c_str()) || !reader->ReadHeader(path.c_str())) {
+        reader->CloseVTKFile();
+        return ""; // VTK reports a bad header itself
+    }
+    reader->GetIStream()->seekg(offset);
+    vtkFieldData* data = reader->ReadFieldData();
+    reader->CloseVTKFile();
+    if (data != nullptr) {
+        data->Delete();
+        return "";
+    }
+    return messages.has_error() ? messages.first_error() : "VTK cannot read it";
+}
+
 } // namespace
 
-std::string check_legacy_vtk_cells(const std::string& path) {
+std::string check_legacy_vtk(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     std::string line;
     // "# vtk DataFile Version x.y", a title, ASCII or BINARY; VTK itself reports a bad header.
     std::string version, title, type;
     if (!std::getline(in, version) || !std::getline(in, title) || !std::getline(in, type))
         return "";
-    if (version.find("Version 5") != std::string::npos) return ""; // offsets and connectivity
+    // Format 5 lists cells as offsets and connectivity, which VTK checks.
+    const bool legacy_cells = version.find("Version 5") == std::string::npos;
     const bool binary = lower(type).rfind("binary", 0) == 0;
     IntReader ints(in, binary);
     std::set<std::string> sections; // a data set has each at most once
-    while (std::getline(in, line)) {
+    struct Field {
+        std::streamoff offset;
+        size_t line;
+    };
+    std::vector<Field> fields; // of the data set (before its point and cell data)
+    bool in_attributes = false;
+    for (size_t number = 4;; ++number) {
+        const std::streamoff start = in.tellg();
+        if (!std::getline(in, line)) break;
         std::istringstream words(line);
         std::string keyword, extra;
         int64_t cells = 0, size = 0;
         if (!(words >> keyword)) continue;
         const std::string section = lower(keyword);
+        if (section == "point_data" || section == "cell_data") in_attributes = true;
+        if (section == "field" && !in_attributes)
+            fields.push_back({start + std::streamoff(words.tellg()), number});
+        if (!legacy_cells) continue;
         if (is_counted_section(section) && (words >> cells) && !(words >> extra)) {
             // VTK 9.1 dereferences a null pointer at a second CELL_TYPES.
             if (!sections.insert(section).second) return "a second " + keyword + " section";
@@ -105,6 +143,12 @@ std::string check_legacy_vtk_cells(const std::string& path) {
         if (std::string problem = walk_cells(ints, keyword, cells, size); !problem.empty())
             return problem;
     }
+    // VTK 9.1's data set readers call Delete() on what ReadFieldData returns without checking it
+    // for null, which it is when an array in the section cannot be read.
+    for (const Field& field : fields)
+        if (std::string problem = check_field_data(path, field.offset); !problem.empty())
+            return "the data set's FIELD section (line " + std::to_string(field.line) +
+                   ") cannot be read: " + problem;
     return "";
 }
 

@@ -103,3 +103,162 @@ TEST(FuzzRegressions, LegacyVtkSectionsThatRepeatAreRefused) {
     EXPECT_NE(read_error(found).find(": a second CELL_TYPES section"), std::string::npos)
         << read_error(found);
 }
+
+namespace {
+
+// An input of tests/fuzz/corpus/<target>/ (named without an extension) as a file of that format.
+std::string corpus_file(const std::string& target, const std::string& name,
+                        const std::string& extension) {
+    std::ifstream in(std::string(DDSIMP_FUZZ_CORPUS) + "/" + target + "/" + name, std::ios::binary);
+    return write_file(name + extension, std::string{std::istreambuf_iterator<char>(in), {}});
+}
+
+const char* const kTetrahedronObjVertices = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+
+} // namespace
+
+// read_obj, crash-3a2b26c2…: OpenMesh's OBJ reader asserts that a face corner has a vertex index
+// before it reads the texture index after it; "f /1/1 ..." aborted ddsimp (SIGABRT). Every face
+// line is checked before OpenMesh reads the file.
+TEST(FuzzRegressions, ObjFaceCornersWithoutAVertexIndexAreRefused) {
+    const std::string path = write_file(
+        "no-vertex-index.obj", std::string(kTetrahedronObjVertices) + "f /1/1 2/2/1 3/3/1\n");
+    EXPECT_EQ(read_error(path),
+              "cannot read " + path + ": line 5: face corner '/1/1' has no vertex index");
+    const std::string normal_only = write_file(
+        "normal-only.obj", std::string(kTetrahedronObjVertices) + "f 1 2 3\nf //1 2 3\n");
+    EXPECT_EQ(read_error(normal_only),
+              "cannot read " + normal_only + ": line 6: face corner '//1' has no vertex index");
+    const std::string found =
+        corpus_file("read_obj", "crash-3a2b26c23d37655144140a4080a0384a336bdf64", ".obj");
+    EXPECT_EQ(read_error(found),
+              "cannot read " + found + ": line 2: a vertex needs x y z, '0)0' is not a number");
+}
+
+TEST(FuzzRegressions, ObjFaceCornersOutOfRangeOrTooFewAreRefused) {
+    const std::string v = kTetrahedronObjVertices;
+    const std::string past = write_file("past.obj", v + "f 1 2 5\n");
+    EXPECT_EQ(read_error(past), "cannot read " + past +
+                                    ": line 5: face corner '5' refers to vertex 5, but the file "
+                                    "has 4 vertices");
+    const std::string before = write_file("before.obj", "v 0 0 0\nf -1 -2 -3\n" + v);
+    EXPECT_EQ(read_error(before), "cannot read " + before +
+                                      ": line 2: face corner '-2' refers to vertex -2, but only 1 "
+                                      "vertices come before it");
+    const std::string zero = write_file("zero.obj", v + "f 0 1 2\n");
+    EXPECT_EQ(read_error(zero),
+              "cannot read " + zero + ": line 5: face corner '0': OBJ vertex indices start at 1");
+    const std::string two = write_file("two.obj", v + "f 1 2 # a comment\n");
+    EXPECT_EQ(read_error(two),
+              "cannot read " + two + ": line 5: a face needs 3 corners, this one has 2");
+    // What the check lets through reads as before: negative indices, v/vt/vn corners, comments.
+    const Surface s = io::read_surface(write_file(
+        "good.obj", v + "vt 0 0\nvn 0 0 1\n  f -4 -2 -3 # indented, relative\nf 1/1/1 2//1 4/1\n"));
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 2, 1, 0, 1, 3}));
+}
+
+// read_off, oom-565f4f44…: a COFF file whose fourth face line is a vertex line; OpenMesh reads a
+// face's corner count as an unsigned int, so "-52.4887" is 4294967244 corners and it pushes that
+// many vertex handles (3 GB before libFuzzer stopped it). The file is walked as OpenMesh reads it
+// first; here the third face line already has a corner that is not a number.
+TEST(FuzzRegressions, OffFaceLinesThatAreNotFacesAreRefused) {
+    const std::string vertices = "4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    const std::string not_face = write_file(
+        "not-a-face.off",
+        "OFF\n" + vertices + "3 0 2 1\n3 0 1 3\n3 0 3 2\n-52.4887 66.5 -57.2\n-52.9 67.3 -57.6\n");
+    EXPECT_EQ(read_error(not_face),
+              "cannot read " + not_face + ": line 10: face 3: '-52.4887' is not a corner count");
+    const std::string bad_vertex =
+        write_file("bad-vertex.off", "OFF\n4 4 0\n0 0 0\n1 x 0\n0 1 0\n0 0 1\n3 0 2 1\n"
+                                     "3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    EXPECT_EQ(read_error(bad_vertex),
+              "cannot read " + bad_vertex + ": line 4: vertex 1: 'x' is not a number");
+    // Without a C in the header OpenMesh would take a face colour for the next face's count.
+    const std::string colour = write_file(
+        "face-colour.off", "OFF\n" + vertices + "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    EXPECT_EQ(read_error(colour), "cannot read " + colour +
+                                      ": line 7: face 0 has more on its line than its 3 corners "
+                                      "(a face colour needs a COFF header)");
+    const std::string found =
+        corpus_file("read_off", "oom-565f4f44b002faeacbbc8e0f9e4cf3539782c424", ".off");
+    EXPECT_NE(read_error(found).find(": line 9: face 2: '2\\x92\\x92"), std::string::npos)
+        << read_error(found);
+    // The same file with its colours on a COFF header reads.
+    const Surface s = io::read_surface(write_file(
+        "colours.coff.off", "COFF\n" + vertices.substr(0, 6) +
+                                "0 0 0 255 0 0 255\n1 0 0 1 2 3 4\n0 1 0\n0 0 1 9 9 9 9\n"
+                                "3 0 2 1 255 0 0\n3 0 1 3\n3 0 3 2\n3 1 2 3 1 1 1 1\n"));
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3}));
+}
+
+// read_ply, timeout-b9d263a9…: OpenMesh's PLY reader reads its header word by word until the
+// word end_header and stops early only on a stream error, not at the end of the file; a "property
+// list" line whose item type runs into binary data took end_header as the property's name and
+// looped for ever. The header is checked line by line first (here its line 5 already is wrong).
+TEST(FuzzRegressions, PlyHeadersOpenMeshWouldMisreadAreRefused) {
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 1\n";
+    const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const std::string swallowed =
+        write_file("swallowed.ply", head + "property list uchar int\n" + body);
+    EXPECT_EQ(read_error(swallowed),
+              "cannot read " + swallowed +
+                  ": PLY header line 8: 'property list' needs a count type, an item type and a "
+                  "name");
+    const std::string orphan = write_file(
+        "orphan.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 0\nend_header\n");
+    EXPECT_EQ(read_error(orphan),
+              "cannot read " + orphan + ": PLY header line 3: a property before any element");
+    const std::string found =
+        corpus_file("read_ply", "timeout-b9d263a91e4f909baee5eec95f6dd13c4f79f24c", ".ply");
+    EXPECT_EQ(read_error(found),
+              "cannot read " + found + ": PLY header line 5: unknown keyword 'propertfloat'");
+    const Surface s = io::read_surface(
+        write_file("good.ply", head + "property list uchar int vertex_indices\n" + body));
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+// List counts are read as unsigned ints, and OpenMesh allocates that many items: a count of -1
+// (binary int) is refused, as is an ASCII word that is not a number.
+TEST(FuzzRegressions, PlyListCountsTheFileCannotHoldAreRefused) {
+    const std::string head = "ply\nformat binary_big_endian 1.0\nelement vertex 3\n"
+                             "property float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list int int vertex_indices\nend_header\n";
+    const std::string vertices(36, '\0');
+    const std::string minus_one =
+        write_file("minus-one.ply",
+                   head + vertices + std::string("\xff\xff\xff\xff", 4) + std::string(12, '\0'));
+    EXPECT_EQ(read_error(minus_one),
+              "cannot read " + minus_one +
+                  ": face 0: a list 'vertex_indices' of -1 items, more than the file holds");
+    const std::string ascii =
+        write_file("ascii-count.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                      "property float y\nproperty float z\nelement face 1\n"
+                                      "property list uchar int vertex_indices\nend_header\n"
+                                      "0 0 0\n1 0 0\n0 1 0\n3x 0 1 2\n");
+    EXPECT_EQ(read_error(ascii),
+              "cannot read " + ascii + ": line 13: face 0: '3x' is not a list count");
+}
+
+// read_vtk, crash-97e5beb2…: an unstructured grid whose data-set FIELD section VTK cannot read
+// (a garbled line in a char array; VTK then meets a data type "0"); ReadFieldData returns null and
+// vtkUnstructuredGridReader::ReadMeshSimple calls Delete() on it (SEGV). Each such section is
+// read with VTK's own parser first.
+TEST(FuzzRegressions, LegacyVtkFieldSectionsVtkCannotReadAreRefused) {
+    const std::string grid = "# vtk DataFile Version 4.2\nfield data\nASCII\n"
+                             "DATASET UNSTRUCTURED_GRID\nFIELD FieldData 1\nInfo 1 3 char\n";
+    const std::string rest = "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nCELLS 1 4\n3 0 1 2\n"
+                             "CELL_TYPES 1\n5\n";
+    const Surface s = io::read_surface(write_file("good-field.vtk", grid + "65 66 67\n" + rest));
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 1, 2}));
+    std::string bad_grid = grid;
+    bad_grid.replace(bad_grid.find("char"), 4, "nonsense");
+    const std::string bad = write_file("bad-field.vtk", bad_grid + "65 66 67\n" + rest);
+    EXPECT_EQ(read_error(bad), "cannot read " + bad +
+                                   ": the data set's FIELD section (line 5) cannot be read: "
+                                   "Unsupported data type: nonsense");
+    const std::string found = corpus_file_as_vtk("crash-97e5beb213d49333db52a86bb176c3a52a3d2319");
+    EXPECT_NE(read_error(found).find(": the data set's FIELD section (line 5) cannot be read: "),
+              std::string::npos)
+        << read_error(found);
+}
