@@ -15,19 +15,54 @@ std::string at_line(const TextScanner& words, const std::string& what) {
     return "line " + std::to_string(words.line()) + ": " + what;
 }
 
+uint32_t little_endian_u32(std::string_view bytes, size_t at) {
+    uint32_t value = 0;
+    for (int i = 3; i >= 0; --i) value = value << 8 | static_cast<unsigned char>(bytes[at + i]);
+    return value;
+}
+
+// Binary OFF as OpenMesh 9.0 reads it (read_binary): three uint32 counts, per vertex 3 floats
+// (+3 normal floats, +3 colour ints, +2 texture floats), per face a uint32 corner count and that
+// many uint32 indices (no face colours: ddsimp does not ask for them). OpenMesh reserves memory
+// for the counts and pushes a handle per corner before it notices the file has ended.
+std::string check_binary_off(std::string_view body, bool colours, bool normals, bool texture) {
+    if (body.size() < 12) return "the binary OFF file ends before its counts";
+    const uint64_t vertices = little_endian_u32(body, 0), faces = little_endian_u32(body, 4);
+    const uint64_t vertex_bytes = 12 + (normals ? 12 : 0) + (colours ? 12 : 0) + (texture ? 8 : 0);
+    const std::string declares = "its header declares " + std::to_string(vertices) +
+                                 " vertices and " + std::to_string(faces) + " faces";
+    if (vertices * vertex_bytes + faces * 4 > body.size() - 12)
+        return "the file ends early: " + declares;
+    size_t at = size_t(12 + vertices * vertex_bytes);
+    for (uint64_t f = 0; f < faces; ++f) {
+        if (body.size() - at < 4) return "the file ends early: " + declares;
+        const uint64_t corners = little_endian_u32(body, at);
+        at += 4;
+        if (corners > (body.size() - at) / 4)
+            return "face " + std::to_string(f) + " has " + std::to_string(corners) +
+                   " corners, more than the file holds";
+        at += size_t(corners * 4);
+    }
+    return "";
+}
+
 } // namespace
 
-std::string check_ascii_off(std::string_view text) {
+std::string check_off_file(std::string_view text) {
     TextScanner words(text);
     // OpenMesh's header: [ST][C][N]OFF, then " BINARY" for binary files (not checked here).
     const std::string_view header = words.rest_of_line();
     std::string_view kind = header;
-    if (kind.substr(0, 2) == "ST") kind.remove_prefix(2);
+    const bool texture = kind.substr(0, 2) == "ST";
+    if (texture) kind.remove_prefix(2);
     const bool colours = !kind.empty() && kind[0] == 'C';
     if (colours) kind.remove_prefix(1);
     const bool normals = !kind.empty() && kind[0] == 'N';
     if (normals) kind.remove_prefix(1);
-    if (kind.substr(0, 3) != "OFF" || header.find("BINARY") != std::string_view::npos) return "";
+    if (kind.substr(0, 3) != "OFF") return "";
+    // OpenMesh's test: "BINARY" one character after OFF.
+    if (kind.size() > 4 && kind.substr(4, 6) == "BINARY")
+        return check_binary_off(text.substr(words.offset()), colours, normals, texture);
 
     int64_t counts[3] = {0, 0, 0};
     const char* const count_names[3] = {"vertex count", "face count", "edge count"};

@@ -1,4 +1,4 @@
-// Checks of an ASCII .off file that OpenMesh's OFF reader does not make before it trusts it.
+// Checks of an .off file that OpenMesh's OFF reader does not make before it trusts it.
 #pragma once
 
 #include <string>
@@ -15,7 +15,8 @@ namespace ddsimp::io {
 // rest of its line (a colour). Returns "" if every word it reads is a number of the kind it
 // reads (and, without C, nothing is left on a face's line to be taken for the next face), else
 // what is wrong, with the line ("line 10: face 3: '-52.4887' is not a corner count"). Binary OFF
-// and headers OpenMesh does not read are left to OpenMesh ("").
-std::string check_ascii_off(std::string_view text);
+// ("OFF BINARY") is walked the same way by its byte counts: a count the file cannot hold made
+// OpenMesh reserve gigabytes. Headers OpenMesh does not read are left to OpenMesh ("").
+std::string check_off_file(std::string_view text);
 
 } // namespace ddsimp::io

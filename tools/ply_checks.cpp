@@ -116,7 +116,10 @@ std::string read_header_line(const std::vector<std::string_view>& words, size_t 
                                           "uint8, uint16 or int, not " +
                                               quoted(words[2]));
             if (!item) return header_error(line, quoted(words[3]) + " is not a PLY type");
-            p = Property{std::string(words[4]), *item, true, *count, Use::AsDeclared};
+            p.name = std::string(words[4]);
+            p.type = *item;
+            p.list = true;
+            p.count_type = *count;
         } else {
             if (words.size() != 3) return header_error(line, "'property' needs a type and a name");
             // OpenMesh takes either word as the type.
@@ -124,7 +127,8 @@ std::string read_header_line(const std::vector<std::string_view>& words, size_t 
             if (!first && !second)
                 return header_error(line, "neither " + quoted(words[1]) + " nor " +
                                               quoted(words[2]) + " is a PLY type");
-            p = Property{std::string(first ? words[2] : words[1]), first ? *first : *second};
+            p.name = std::string(first ? words[2] : words[1]);
+            p.type = first ? *first : *second;
         }
         if (element.name == "vertex" && !p.list && is_vertex_float(p.name)) {
             p.use = Use::AsFloat;

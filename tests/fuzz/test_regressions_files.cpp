@@ -262,3 +262,52 @@ TEST(FuzzRegressions, LegacyVtkFieldSectionsVtkCannotReadAreRefused) {
               std::string::npos)
         << read_error(found);
 }
+
+// read_off, oom-0e5df420…: a header "COFF\xffBINARY..." is binary OFF to OpenMesh ("BINARY" one
+// character after OFF), whose counts are raw uint32s it reserves memory for (3 GB here) and whose
+// corner counts it trusts. Binary OFF is walked by its byte counts first.
+TEST(FuzzRegressions, BinaryOffCountsTheFileCannotHoldAreRefused) {
+    auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    std::string vertices;
+    for (float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+        vertices += std::string(reinterpret_cast<const char*>(&x), 4);
+    const std::string huge =
+        write_file("huge-binary.off", "OFF BINARY\n" + u32(3) + u32(100000000) + u32(0) + vertices +
+                                          u32(3) + u32(0) + u32(1) + u32(2));
+    EXPECT_EQ(read_error(huge), "cannot read " + huge +
+                                    ": the file ends early: its header declares 3 vertices and "
+                                    "100000000 faces");
+    const std::string corners =
+        write_file("corners-binary.off", "OFF BINARY\n" + u32(3) + u32(1) + u32(0) + vertices +
+                                             u32(4000000000u) + u32(0) + u32(1) + u32(2));
+    EXPECT_EQ(read_error(corners), "cannot read " + corners +
+                                       ": face 0 has 4000000000 corners, more than the file holds");
+    const Surface s = io::read_surface(
+        write_file("good-binary.off", "OFF BINARY\n" + u32(3) + u32(1) + u32(0) + vertices +
+                                          u32(3) + u32(0) + u32(1) + u32(2)));
+    EXPECT_EQ(s.triangles, (std::vector<uint32_t>{0, 1, 2}));
+    const std::string found =
+        corpus_file("read_off", "oom-0e5df42011f33a74c5c3fa56a26a54b8b16671e5", ".off");
+    EXPECT_NE(read_error(found).find("the file ends early: its header declares"), std::string::npos)
+        << read_error(found);
+}
+
+// read_vtk, crash-41ebe6c9…: VTK's legacy reader kept a point-data array shorter than the points
+// (the fuzz target's check of every field's length failed). A field must have one tuple per
+// point.
+TEST(FuzzRegressions, LegacyVtkPointFieldsOfTheWrongLengthAreRefused) {
+    const std::string head = "# vtk DataFile Version 4.2\nshort field\nASCII\nDATASET POLYDATA\n"
+                             "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n"
+                             "POINT_DATA 3\nFIELD FieldData 1\n";
+    const Surface s =
+        io::read_surface(write_file("good-point-field.vtk", head + "T 1 3 float\n1 2 3\n"));
+    ASSERT_EQ(s.fields.size(), 1u);
+    EXPECT_EQ(s.fields[0].values, (std::vector<float>{1, 2, 3}));
+    const std::string short_field =
+        write_file("short-point-field.vtk", head + "T 1 2 float\n1 2\n");
+    EXPECT_EQ(read_error(short_field),
+              "cannot read " + short_field +
+                  ": point field 'T' has 2 tuples of 1 components for 3 points");
+    const std::string found = corpus_file_as_vtk("crash-41ebe6c908e44efda2ae9c25addef044eb81ff7a");
+    EXPECT_NE(read_error(found).find("tuples of"), std::string::npos) << read_error(found);
+}
