@@ -216,7 +216,7 @@ std::string check_file_body(const std::string& path, const std::string& extensio
             if (std::string problem = check_off(in); !problem.empty()) return problem;
             in.clear();
             in.seekg(0);
-            return check_ascii_off(std::string(std::istreambuf_iterator<char>(in), {}));
+            return check_off_file(std::string(std::istreambuf_iterator<char>(in), {}));
         }
         if (extension == ".ply") {
             in.seekg(0, std::ios::end);
