@@ -327,7 +327,9 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
                     squares += d * d;
                 }
             }
-            count({best, m > 0 ? std::sqrt(squares / double(m)) : 0.0});
+            // Below 1e-9 (far under a float's resolution): rounding of a point on its plane.
+            const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
+            count({best > 1e-9 ? best : 0.0, misfit > 1e-9 ? misfit : 0.0});
         }
         level_error_[2 * i] = float(geometric), level_error_[2 * i + 1] = float(data);
     }
