@@ -34,7 +34,11 @@ Surface read_legacy(const std::string& path, const std::string& context) {
         throw IoError(context + ": " + problem);
     VtkMessageCapture messages;
     auto reader = legacy_reader(path);
-    reader->Update();
+    try {
+        reader->Update();
+    } catch (const std::exception& e) { // VTK's readers let std::vector's exceptions through
+        throw IoError(context + ": VTK's reader threw " + e.what());
+    }
     vtkDataSet* data = reader->GetOutput();
     if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
     if (data == nullptr) throw IoError(context + ": not a VTK legacy data set");

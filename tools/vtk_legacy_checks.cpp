@@ -88,13 +88,69 @@ std::string check_field_data(const std::string& path, std::streamoff offset) {
         return ""; // VTK reports a bad header itself
     }
     reader->GetIStream()->seekg(offset);
-    vtkFieldData* data = reader->ReadFieldData();
+    vtkFieldData* data = nullptr;
+    try {
+        data = reader->ReadFieldData();
+    } catch (const std::exception& e) { // std::length_error for a count it cannot allocate
+        reader->CloseVTKFile();
+        return std::string("VTK threw ") + e.what();
+    }
     reader->CloseVTKFile();
     if (data != nullptr) {
         data->Delete();
         return "";
     }
     return messages.has_error() ? messages.first_error() : "VTK cannot read it";
+}
+
+bool is_vtk_type(const std::string& word) {
+    static const std::set<std::string> types{"bit",
+                                             "unsigned_char",
+                                             "char",
+                                             "signed_char",
+                                             "unsigned_short",
+                                             "short",
+                                             "unsigned_int",
+                                             "int",
+                                             "unsigned_long",
+                                             "long",
+                                             "unsigned_long_long",
+                                             "long_long",
+                                             "float",
+                                             "double",
+                                             "vtkidtype",
+                                             "vtktypeint64",
+                                             "vtktypeuint64",
+                                             "string",
+                                             "utf8_string",
+                                             "variant"};
+    return types.count(lower(word)) > 0;
+}
+
+// VTK allocates what an array header or a count declares before it reads a value (a declared
+// count of billions is gigabytes, a negative one a std::length_error). A value takes at least a
+// byte in ASCII and a bit in a binary bit array, so no section can declare more values than 8
+// times the file's bytes. "" or what is wrong.
+std::string check_declared_size(const std::vector<std::string>& words, int64_t limit) {
+    auto too_many = [&](int64_t a, int64_t b) {
+        return a < 0 || b < 0 || (a > 0 && b > limit / a);
+    };
+    int64_t a = 0, b = 0;
+    auto integer = [](const std::string& w, int64_t& v) {
+        std::istringstream in(w);
+        std::string rest;
+        return bool(in >> v) && !(in >> rest);
+    };
+    const std::string section = lower(words[0]);
+    if (words.size() == 4 && integer(words[1], a) && integer(words[2], b) &&
+        is_vtk_type(words[3]) && too_many(a, b))
+        return "array " + words[0] + " declares " + words[1] + " components of " + words[2] +
+               " tuples, more than the file holds";
+    if (section == "points" && words.size() == 3 && integer(words[1], a) && too_many(3, a))
+        return "POINTS declares " + words[1] + " points, more than the file holds";
+    if (is_counted_section(section) && words.size() == 2 && integer(words[1], a) && too_many(1, a))
+        return words[0] + " declares " + words[1] + " values, more than the file holds";
+    return "";
 }
 
 } // namespace
@@ -117,9 +173,21 @@ std::string check_legacy_vtk(const std::string& path) {
     };
     std::vector<Field> fields; // of the data set (before its point and cell data)
     bool in_attributes = false;
+    in.seekg(0, std::ios::end);
+    const int64_t most_values = 8 * int64_t(in.tellg());
+    in.seekg(0);
+    for (int i = 0; i < 3; ++i) std::getline(in, line);
     for (size_t number = 4;; ++number) {
         const std::streamoff start = in.tellg();
         if (!std::getline(in, line)) break;
+        std::vector<std::string> all_words;
+        {
+            std::istringstream split(line);
+            for (std::string w; split >> w;) all_words.push_back(w);
+        }
+        if (all_words.empty()) continue;
+        if (std::string problem = check_declared_size(all_words, most_values); !problem.empty())
+            return "line " + std::to_string(number) + ": " + problem;
         std::istringstream words(line);
         std::string keyword, extra;
         int64_t cells = 0, size = 0;

@@ -311,3 +311,24 @@ TEST(FuzzRegressions, LegacyVtkPointFieldsOfTheWrongLengthAreRefused) {
     const std::string found = corpus_file_as_vtk("crash-41ebe6c908e44efda2ae9c25addef044eb81ff7a");
     EXPECT_NE(read_error(found).find("tuples of"), std::string::npos) << read_error(found);
 }
+
+// read_vtk, crash-81fb946d…: VTK's ReadArray sized a std::vector from a garbled array header and
+// the std::length_error went through VTK's reader into ddsimp (std::terminate). VTK's exceptions
+// are errors now, and a count no file of this size can hold is refused before VTK allocates it.
+TEST(FuzzRegressions, LegacyVtkCountsTheFileCannotHoldAreRefused) {
+    const std::string head = "# vtk DataFile Version 4.2\nhuge\nASCII\nDATASET POLYDATA\n";
+    const std::string rest = "POINTS 3 float\n0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n";
+    const std::string tuples = write_file(
+        "huge-tuples.vtk", head + "FIELD FieldData 1\nInfo 1 4000000000 double\n1\n" + rest);
+    EXPECT_EQ(read_error(tuples), "cannot read " + tuples +
+                                      ": line 6: array Info declares 1 components of 4000000000 "
+                                      "tuples, more than the file holds");
+    const std::string points = write_file(
+        "huge-points.vtk", head + "POINTS 900000000 float\n0 0 0\nPOLYGONS 1 4\n3 0 1 2\n");
+    EXPECT_EQ(read_error(points), "cannot read " + points +
+                                      ": line 5: POINTS declares 900000000 points, more than the "
+                                      "file holds");
+    const std::string found = corpus_file_as_vtk("crash-81fb946d06cc41a25ea2316e77026bce5a296e14");
+    EXPECT_NE(read_error(found).find("cannot be read: VTK threw "), std::string::npos)
+        << read_error(found);
+}
