@@ -12,7 +12,7 @@
 
 #include "vtk_messages.h"
 
-#include <vtkFieldData.h>
+#include <vtkAbstractArray.h>
 #include <vtkPolyDataReader.h>
 #include <vtkSmartPointer.h>
 
@@ -78,9 +78,12 @@ std::string walk_cells(IntReader& ints, const std::string& keyword, int64_t cell
     return "";
 }
 
-// Checks a data set's FIELD section with VTK's own parser, from `offset` (just after the word
-// FIELD) on: "" if VTK reads it, else VTK's complaint.
-std::string check_field_data(const std::string& path, std::streamoff offset) {
+// Reads a data set's FIELD section from `offset` (just after the word FIELD) the way VTK 9.1's
+// vtkDataReader::ReadFieldData does, with VTK's own ReadString, Read and ReadArray, but checks
+// the counts before VTK allocates for them (an array count or array size the file cannot hold
+// is gigabytes; a negative one a std::length_error thrown through VTK, which leaks what it had
+// built). "" if VTK reads every array, else what is wrong.
+std::string check_field_data(const std::string& path, std::streamoff offset, int64_t limit) {
     VtkMessageCapture messages;
     auto reader = vtkSmartPointer<vtkPolyDataReader>::New();
     if (!reader->OpenVTKFile(path.c_str()) || !reader->ReadHeader(path.c_str())) {
@@ -88,19 +91,35 @@ std::string check_field_data(const std::string& path, std::streamoff offset) {
         return ""; // VTK reports a bad header itself
     }
     reader->GetIStream()->seekg(offset);
-    vtkFieldData* data = nullptr;
-    try {
-        data = reader->ReadFieldData();
-    } catch (const std::exception& e) { // std::length_error for a count it cannot allocate
+    const auto problem = [&](const std::string& what) {
         reader->CloseVTKFile();
-        return std::string("VTK threw ") + e.what();
+        return what;
+    };
+    char name[1024];
+    int arrays = 0;
+    if (!reader->ReadString(name) || !reader->Read(&arrays))
+        return problem("no name and number of arrays");
+    if (arrays < 0 || arrays > limit)
+        return problem(std::to_string(arrays) + " arrays, more than the file holds");
+    for (int i = 0; i < arrays; ++i) {
+        const std::string array = "array " + std::to_string(i);
+        char type[1024];
+        vtkIdType components = 0, tuples = 0;
+        if (!reader->ReadString(name)) return problem("the file ends before " + array);
+        if (std::string(name) == "NULL_ARRAY") continue;
+        if (!reader->Read(&components) || !reader->Read(&tuples) || !reader->ReadString(type))
+            return problem(array + " has no component count, tuple count and type");
+        if (components < 0 || tuples < 0 || (components > 0 && tuples > limit / components))
+            return problem(array + " declares " + std::to_string(components) + " components of " +
+                           std::to_string(tuples) + " tuples, more than the file holds");
+        vtkAbstractArray* data = reader->ReadArray(type, tuples, components);
+        if (data == nullptr)
+            return problem(messages.has_error() ? messages.first_error()
+                                                : array + ": VTK cannot read it");
+        data->Delete();
     }
     reader->CloseVTKFile();
-    if (data != nullptr) {
-        data->Delete();
-        return "";
-    }
-    return messages.has_error() ? messages.first_error() : "VTK cannot read it";
+    return "";
 }
 
 bool is_vtk_type(const std::string& word) {
@@ -214,7 +233,8 @@ std::string check_legacy_vtk(const std::string& path) {
     // VTK 9.1's data set readers call Delete() on what ReadFieldData returns without checking it
     // for null, which it is when an array in the section cannot be read.
     for (const Field& field : fields)
-        if (std::string problem = check_field_data(path, field.offset); !problem.empty())
+        if (std::string problem = check_field_data(path, field.offset, most_values);
+            !problem.empty())
             return "the data set's FIELD section (line " + std::to_string(field.line) +
                    ") cannot be read: " + problem;
     return "";
