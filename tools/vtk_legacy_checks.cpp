@@ -19,6 +19,14 @@
 namespace ddsimp::io {
 namespace {
 
+// `word` in quotes, cut to 24 characters, for an error message.
+std::string quoted_word(std::string word) {
+    if (word.size() > 24) word = word.substr(0, 24) + "...";
+    for (char& c : word)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+    return "'" + word + "'";
+}
+
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(),
                    [](unsigned char c) { return char(std::tolower(c)); });
@@ -118,6 +126,14 @@ std::string check_field_data(const std::string& path, std::streamoff offset, int
                                                 : array + ": VTK cannot read it");
         data->Delete();
     }
+    // VTK goes on with the word after the section and takes "cells0" for CELLS (it compares
+    // prefixes); a section misread above ends elsewhere than before a keyword. (After a CELLS
+    // section, VTK's error returns leak its cell array.)
+    static const std::set<std::string> keywords{
+        "points",   "cells",           "cell_types", "vertices",  "lines",
+        "polygons", "triangle_strips", "point_data", "cell_data", "field"};
+    if (reader->ReadString(name) && !keywords.count(lower(name)))
+        return problem("it is followed by " + quoted_word(name) + ", not a section");
     reader->CloseVTKFile();
     return "";
 }

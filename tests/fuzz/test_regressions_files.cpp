@@ -335,3 +335,27 @@ TEST(FuzzRegressions, LegacyVtkCountsTheFileCannotHoldAreRefused) {
                                      ": the data set's FIELD section (line 12) cannot be read: "
                                      "array 2 has no component count, tuple count and type");
 }
+
+// Found again while these were fixed, by the same faults: read_obj crash-7148c4a1… (OpenMesh's
+// face-corner assertion), read_off oom-49064fca… (a vertex line read as a face's corner count),
+// read_ply crash-f772e9e1… (a property before any element: OpenMesh's PLY reader dereferenced
+// the end of its empty element list, SEGV), read_vtk leak-1c2f8d42… (a FIELD section misread up
+// to a word "cells0", which VTK took for CELLS; its error return after that leaks the cells).
+TEST(FuzzRegressions, MoreInputsOfTheSameFaultsAreRefused) {
+    const std::string obj =
+        corpus_file("read_obj", "crash-7148c4a1f56ef6d47a9d1060c23aaab4f7b462de", ".obj");
+    EXPECT_EQ(read_error(obj),
+              "cannot read " + obj + ": line 2: a vertex needs x y z, 'v0' is not a number");
+    const std::string off =
+        corpus_file("read_off", "oom-49064fca10d1d0449e98be42d8636b2775bb5e7f", ".off");
+    EXPECT_EQ(read_error(off),
+              "cannot read " + off + ": line 8: face 0: '-36.4873' is not a corner count");
+    const std::string ply =
+        corpus_file("read_ply", "crash-f772e9e1ca0916c604f0314af8d5b037e35faac2", ".ply");
+    EXPECT_EQ(read_error(ply),
+              "cannot read " + ply + ": PLY header line 3: unknown keyword 'elemetn'");
+    const std::string vtk = corpus_file_as_vtk("leak-1c2f8d429814927e25a18fd245556983939aa629");
+    EXPECT_EQ(read_error(vtk), "cannot read " + vtk +
+                                   ": the data set's FIELD section (line 5) cannot be read: it "
+                                   "is followed by 'cells0', not a section");
+}
