@@ -40,9 +40,8 @@ std::string check_corner(std::string_view corner, int64_t before, int64_t vertic
         return "face corner " + quoted(corner) + " is not v, v/vt, v//vn or v/vt/vn";
     for (size_t i = 1; i < parts.size(); ++i)
         if (!parts[i].empty() && !is_integer_word(parts[i], index))
-            return "face corner " + quoted(corner) +
-                   " has a texture or normal index that is not "
-                   "a number";
+            return "face corner " + quoted(corner) + " has a texture or normal index that is " +
+                   "not a number";
     if (parts[0].empty()) return "face corner " + quoted(corner) + " has no vertex index";
     if (!is_integer_word(parts[0], index))
         return "face corner " + quoted(corner) + " is not v, v/vt, v//vn or v/vt/vn";

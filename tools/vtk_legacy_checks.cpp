@@ -1,8 +1,12 @@
 #include "vtk_legacy_checks.h"
 
+#include "text_scanner.h"
+#include "vtk_messages.h"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <charconv>
 #include <cstdint>
 #include <fstream>
 #include <optional>
@@ -10,22 +14,12 @@
 #include <sstream>
 #include <vector>
 
-#include "vtk_messages.h"
-
 #include <vtkAbstractArray.h>
 #include <vtkPolyDataReader.h>
 #include <vtkSmartPointer.h>
 
 namespace ddsimp::io {
 namespace {
-
-// `word` in quotes, cut to 24 characters, for an error message.
-std::string quoted_word(std::string word) {
-    if (word.size() > 24) word = word.substr(0, 24) + "...";
-    for (char& c : word)
-        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
-    return "'" + word + "'";
-}
 
 std::string lower(std::string s) {
     std::transform(s.begin(), s.end(), s.begin(),
@@ -133,9 +127,20 @@ std::string check_field_data(const std::string& path, std::streamoff offset, int
         "points",   "cells",           "cell_types", "vertices",  "lines",
         "polygons", "triangle_strips", "point_data", "cell_data", "field"};
     if (reader->ReadString(name) && !keywords.count(lower(name)))
-        return problem("it is followed by " + quoted_word(name) + ", not a section");
+        return problem("it is followed by " + io::quoted(name) + ", not a section");
     reader->CloseVTKFile();
     return "";
+}
+
+// A number as `>>` reads a double (digits, sign, point, exponent; not "nan" or "inf", which
+// libstdc++ does not read either).
+bool is_number_word(const std::string& word) {
+    if (word.find_first_not_of("0123456789+-.eE") != std::string::npos) return false;
+    const char* begin = word.data() + (word[0] == '+' ? 1 : 0);
+    double value = 0;
+    const auto [end, error] = std::from_chars(begin, word.data() + word.size(), value);
+    return end == word.data() + word.size() &&
+           (error == std::errc() || error == std::errc::result_out_of_range);
 }
 
 bool is_vtk_type(const std::string& word) {
@@ -229,6 +234,29 @@ std::string check_legacy_vtk(const std::string& path) {
         if (!(words >> keyword)) continue;
         const std::string section = lower(keyword);
         if (section == "point_data" || section == "cell_data") in_attributes = true;
+        // VTK's polydata reader ignores a failure to read the points and takes the next word
+        // for a keyword: "-4.2FieldData" in the coordinates became a FIELD section it could not
+        // read, and a null Delete(). ASCII coordinates must all be numbers.
+        if (section == "points" && !binary && all_words.size() == 3) {
+            int64_t points = 0;
+            std::istringstream count(all_words[1]);
+            if (count >> points && points >= 0) {
+                int64_t read = 0; // line by line, so that the line numbers stay right
+                while (read < 3 * points) {
+                    if (!std::getline(in, line))
+                        return "POINTS " + all_words[1] + ": the file ends in point " +
+                               std::to_string(read / 3);
+                    ++number;
+                    std::istringstream values(line);
+                    for (std::string word; read < 3 * points && values >> word; ++read)
+                        if (!is_number_word(word))
+                            return "line " + std::to_string(number) + ": POINTS " + all_words[1] +
+                                   ": point " + std::to_string(read / 3) + " has " +
+                                   io::quoted(word) + ", not a number";
+                }
+            }
+            continue;
+        }
         if (section == "field" && !in_attributes)
             fields.push_back({start + std::streamoff(words.tellg()), number});
         if (!legacy_cells) continue;

@@ -359,3 +359,24 @@ TEST(FuzzRegressions, MoreInputsOfTheSameFaultsAreRefused) {
                                    ": the data set's FIELD section (line 5) cannot be read: it "
                                    "is followed by 'cells0', not a section");
 }
+
+// read_vtk, crash-d5148a79…: vtkPolyDataReader ignores a failure to read the points and takes
+// the next word for a keyword; "-4.20128FieldData" in the coordinates made it read a FIELD
+// section from "FieldData" on, which failed, and Delete() the null it got back (SEGV). ASCII
+// point coordinates must all be numbers.
+TEST(FuzzRegressions, LegacyVtkPointCoordinatesThatAreNotNumbersAreRefused) {
+    const std::string head = "# vtk DataFile Version 4.2\npoints\nASCII\nDATASET POLYDATA\n";
+    const std::string bad =
+        write_file("bad-points.vtk", head + "POINTS 3 float\n0 0 0\n1 0 0\n0 1x 0\nPOLYGONS 1 "
+                                            "4\n3 0 1 2\n");
+    EXPECT_EQ(read_error(bad),
+              "cannot read " + bad + ": line 8: POINTS 3: point 2 has '1x', not a number");
+    const Surface s = io::read_surface(
+        write_file("good-points.vtk",
+                   head + "POINTS 3 float\n0 0 0 1 0\n0 0 +1e0 0\nPOLYGONS 1 4\n3 0 1 2\n"));
+    EXPECT_EQ(s.positions, (std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0}));
+    const std::string found = corpus_file_as_vtk("crash-d5148a79d06a0276201072390abbfcd75a9f090c");
+    EXPECT_EQ(read_error(found), "cannot read " + found +
+                                     ": line 8: POINTS 56: point 3 has '-4.20128FieldData', not "
+                                     "a number");
+}
