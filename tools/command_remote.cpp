@@ -70,6 +70,12 @@ double float_decimal(double value) {
     return std::strtod(text, nullptr);
 }
 
+void add_level_error(nlohmann::json& line, const std::optional<LevelError>& error) {
+    if (!error) return;
+    line["geometric_error"] = float_decimal(error->geometric);
+    if (error->data_components > 0) line["data_error"] = float_decimal(error->data);
+}
+
 const char* strategy_name(Strategy strategy) {
     return strategy == Strategy::VertexRemoval ? "vertex" : "edge";
 }

@@ -44,6 +44,10 @@ void print_json_line(const nlohmann::json& line);
 // (0.2f prints as 0.2, not 0.20000000298023224).
 double float_decimal(double value);
 
+// The level's error, if the server sent one, as fields of its JSON line: geometric_error (in
+// bounding-box diagonals) and, when data was measured, data_error (in field ranges).
+void add_level_error(nlohmann::json& line, const std::optional<LevelError>& error);
+
 // Strategy names as the command line spells them ("edge", "vertex").
 const char* strategy_name(Strategy strategy);
 

@@ -72,13 +72,15 @@ int run_watch(const WatchArgs& args) {
                 std::snprintf(name, sizeof name, "mesh-%04zu.vtk", ++meshes);
                 const std::string file = (std::filesystem::path(args.output) / name).string();
                 io::write_surface(e->mesh.mesh, file);
-                print_json_line({{"event", "mesh"},
-                                 {"session", e->mesh.session},
-                                 {"keep", float_decimal(e->mesh.keep)},
-                                 {"triangles", e->mesh.mesh.triangle_count()},
-                                 {"vertices", e->mesh.mesh.vertex_count()},
-                                 {"file", file},
-                                 {"result", e->mesh.result}});
+                nlohmann::json line = {{"event", "mesh"},
+                                       {"session", e->mesh.session},
+                                       {"keep", float_decimal(e->mesh.keep)},
+                                       {"triangles", e->mesh.mesh.triangle_count()}};
+                add_level_error(line, e->mesh.error);
+                line.update({{"vertices", e->mesh.mesh.vertex_count()},
+                             {"file", file},
+                             {"result", e->mesh.result}});
+                print_json_line(line);
                 break;
             }
             case SessionEvent::Kind::Error:

@@ -105,8 +105,9 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
         request.keep = args.keep;
         request.strategy =
             args.strategy == "vertex" ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
-        request.placement =
-            args.placement == "volume" ? Placement::VolumePreserving : Placement::Midpoint;
+        request.placement = args.placement == "volume"        ? Placement::VolumePreserving
+                            : args.placement == "least-error" ? Placement::LeastError
+                                                              : Placement::Midpoint;
         request.gradient_fields = args.fields;
         request.progressive = args.progressive;
         request.encoding = args.raw ? Encoding::Raw : Encoding::Meshopt;
@@ -133,17 +134,18 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
             const std::string file = level_file(args.output, keep);
             const Surface mesh = without_unused_vertices(level->mesh);
             io::write_surface(mesh, file);
-            print_json_line({{"keep", keep},
-                             {"triangles", mesh.triangle_count()},
-                             {"vertices", mesh.vertex_count()},
-                             {"file", file},
-                             {"seconds", seconds},
-                             {"server_seconds", level->seconds},
-                             {"cached", level->cached},
-                             {"bytes", level->wire_bytes},
-                             {"encoding", level->encoding == Encoding::Meshopt ? "meshopt" : "raw"},
-                             {"target_reached", level->target_reached},
-                             {"result", level->result}});
+            nlohmann::json line = {{"keep", keep}, {"triangles", mesh.triangle_count()}};
+            add_level_error(line, level->error);
+            line.update({{"vertices", mesh.vertex_count()},
+                         {"file", file},
+                         {"seconds", seconds},
+                         {"server_seconds", level->seconds},
+                         {"cached", level->cached},
+                         {"bytes", level->wire_bytes},
+                         {"encoding", level->encoding == Encoding::Meshopt ? "meshopt" : "raw"},
+                         {"target_reached", level->target_reached},
+                         {"result", level->result}});
+            print_json_line(line);
         }
         pending.done.get();
         return kExitOk;
@@ -167,8 +169,9 @@ Command add_remote_simplify(CLI::App& remote) {
     sub->add_option("--strategy", args->strategy, "edge (collapse) or vertex (removal)")
         ->check(CLI::IsMember({"edge", "vertex"}))
         ->capture_default_str();
-    sub->add_option("--placement", args->placement, "Edge collapse point: midpoint or volume")
-        ->check(CLI::IsMember({"midpoint", "volume"}))
+    sub->add_option("--placement", args->placement,
+                    "Edge collapse point: midpoint, volume or least-error")
+        ->check(CLI::IsMember({"midpoint", "volume", "least-error"}))
         ->capture_default_str();
     sub->add_option("--fields", args->fields, "Fields that drive the data term (default: all)")
         ->delimiter(',');

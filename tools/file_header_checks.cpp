@@ -1,7 +1,12 @@
 #include "file_header_checks.h"
 
+#include "obj_checks.h"
+#include "off_checks.h"
+#include "ply_checks.h"
+
 #include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <sstream>
 #include <vector>
@@ -186,8 +191,12 @@ std::optional<size_t> declared_face_count(const std::string& path, const std::st
     if (extension == ".obj") {
         size_t faces = 0;
         std::string line;
-        while (std::getline(in, line))
-            if (line.size() > 1 && line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) ++faces;
+        while (std::getline(in, line)) { // (OpenMesh trims each line)
+            const size_t f = line.find_first_not_of(" \t\r");
+            if (f != std::string::npos && line.size() > f + 1 && line[f] == 'f' &&
+                (line[f + 1] == ' ' || line[f + 1] == '\t'))
+                ++faces;
+        }
         return faces;
     }
     return std::nullopt;
@@ -204,14 +213,22 @@ std::string check_file_body(const std::string& path, const std::string& extensio
                 return "comment lines are not supported (OpenMesh's OFF reader misreads them)";
             in.clear();
             in.seekg(0);
-            return check_off(in);
+            if (std::string problem = check_off(in); !problem.empty()) return problem;
+            in.clear();
+            in.seekg(0);
+            return check_off_file(std::string(std::istreambuf_iterator<char>(in), {}));
         }
         if (extension == ".ply") {
             in.seekg(0, std::ios::end);
             const std::streamoff size = in.tellg();
             in.seekg(0);
-            return check_ply(in, size);
+            if (std::string problem = check_ply(in, size); !problem.empty()) return problem;
+            in.clear();
+            in.seekg(0);
+            return check_ply_file(std::string(std::istreambuf_iterator<char>(in), {}));
         }
+        if (extension == ".obj")
+            return check_obj_lines(std::string(std::istreambuf_iterator<char>(in), {}));
     } catch (const std::exception&) {
         return "malformed header";
     }

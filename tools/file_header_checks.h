@@ -12,7 +12,10 @@ namespace ddsimp::io {
 std::optional<size_t> declared_face_count(const std::string& path, const std::string& extension);
 
 // "" if the body is long enough for the counts in the header, else what is wrong ("the file ends
-// early: ..."). Checks ASCII .off (tokens), ASCII .ply (tokens) and binary .ply (bytes).
+// early: ..."). Checks ASCII .off (tokens), ASCII .ply (tokens) and binary .ply (bytes), then
+// walks .off, .ply and .obj files the way OpenMesh's readers will (off_checks.h, ply_checks.h,
+// obj_checks.h) so that a malformed file is an error here, not an abort, a hang or gigabytes
+// allocated there.
 std::string check_file_body(const std::string& path, const std::string& extension);
 
 } // namespace ddsimp::io

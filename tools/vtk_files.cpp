@@ -30,11 +30,15 @@ vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path) {
 namespace {
 
 Surface read_legacy(const std::string& path, const std::string& context) {
-    if (const std::string problem = check_legacy_vtk_cells(path); !problem.empty())
+    if (const std::string problem = check_legacy_vtk(path); !problem.empty())
         throw IoError(context + ": " + problem);
     VtkMessageCapture messages;
     auto reader = legacy_reader(path);
-    reader->Update();
+    try {
+        reader->Update();
+    } catch (const std::exception& e) { // VTK's readers let std::vector's exceptions through
+        throw IoError(context + ": VTK's reader threw " + e.what());
+    }
     vtkDataSet* data = reader->GetOutput();
     if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
     if (data == nullptr) throw IoError(context + ": not a VTK legacy data set");

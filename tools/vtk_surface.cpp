@@ -109,6 +109,18 @@ bool is_numeric(vtkDataArray* array) {
     return array && array->GetDataType() != VTK_BIT;
 }
 
+// VTK's legacy reader keeps a point-data array of another length than the points when the file
+// says so (a fuzzed POINT_DATA section): a field must have one tuple per point.
+void append_point_field(vtkDataArray* array, const std::string& name, Surface& surface,
+                        const std::string& context) {
+    const vtkIdType tuples = array->GetNumberOfTuples(), points = vtkIdType(surface.vertex_count());
+    if (array->GetNumberOfComponents() < 1 || tuples != points)
+        fail(context, "point field '" + name + "' has " + std::to_string(tuples) + " tuples of " +
+                          std::to_string(array->GetNumberOfComponents()) + " components for " +
+                          std::to_string(points) + " points");
+    append_field(array, name, surface);
+}
+
 } // namespace
 
 void append_point_fields(vtkPointData* point_data, Surface& surface, const std::string& context,
@@ -118,7 +130,8 @@ void append_point_fields(vtkPointData* point_data, Surface& surface, const std::
             vtkDataArray* array = vtkDataArray::SafeDownCast(point_data->GetAbstractArray(i));
             if (!is_numeric(array)) continue;
             const char* name = array->GetName();
-            append_field(array, name && *name ? name : "array" + std::to_string(i), surface);
+            append_point_field(array, name && *name ? name : "array" + std::to_string(i), surface,
+                               context);
         }
         return;
     }
@@ -126,7 +139,7 @@ void append_point_fields(vtkPointData* point_data, Surface& surface, const std::
         vtkDataArray* array =
             vtkDataArray::SafeDownCast(point_data->GetAbstractArray(name.c_str()));
         if (!is_numeric(array)) fail(context, "no numeric point field '" + name + "'");
-        append_field(array, name, surface);
+        append_point_field(array, name, surface, context);
     }
 }
 

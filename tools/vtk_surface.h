@@ -21,7 +21,8 @@ Surface surface_from_dataset(vtkDataSet* data, const std::string& context,
                              const std::vector<std::string>& fields = {});
 
 // Appends the numeric point-data arrays (bit and string arrays skipped) as float fields; if
-// `names` is not empty, only those, in that order (IoError for a missing one).
+// `names` is not empty, only those, in that order (IoError for a missing one, or one that does not
+// have one tuple per vertex of `surface`).
 void append_point_fields(vtkPointData* point_data, Surface& surface, const std::string& context,
                          const std::vector<std::string>& names = {});
 

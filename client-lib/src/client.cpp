@@ -83,6 +83,9 @@ Level level_from(const v1::MeshBegin& begin, uint64_t wire_bytes) {
     level.cached = begin.cached();
     level.result = begin.result();
     level.target_reached = begin.target_reached();
+    if (begin.has_error())
+        level.error = LevelError{begin.error().geometric(), begin.error().data(),
+                                 size_t(begin.error().data_components())};
     return level;
 }
 

@@ -177,7 +177,9 @@ v1::Request to_wire(const LevelRequest& request, uint64_t id, bool meshopt, bool
     out.set_surface(request.surface);
     out.set_alpha(float(request.alpha));
     out.set_strategy(to_wire(request.strategy));
-    out.set_placement(request.placement == Placement::VolumePreserving ? v1::VOLUME : v1::MIDPOINT);
+    out.set_placement(request.placement == Placement::VolumePreserving ? v1::VOLUME
+                      : request.placement == Placement::LeastError     ? v1::LEAST_ERROR
+                                                                       : v1::MIDPOINT);
     for (const std::string& f : request.gradient_fields) out.add_gradient_fields(f);
     // The protocol's 0 means "off" (180).
     out.set_feature_angle(request.feature_angle >= 180 ? 0.0f : float(request.feature_angle));

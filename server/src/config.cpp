@@ -4,6 +4,9 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
 
 #ifndef DDSIMP_DEFAULT_SAMPLE
 #define DDSIMP_DEFAULT_SAMPLE ""
@@ -13,6 +16,33 @@
 #endif
 
 namespace ddsimp::server {
+namespace {
+
+// The environment variable of a flag or file key: --http-port / http-port → DDSIMP_HTTP_PORT.
+std::string environment_name(const std::string& key) {
+    std::string env = "DDSIMP_";
+    for (char ch : key.substr(key.find_first_not_of('-')))
+        env += ch == '-' ? '_' : char(std::toupper(static_cast<unsigned char>(ch)));
+    return env;
+}
+
+// The configuration file (TOML/INI `key = value`) without the keys whose DDSIMP_* variable is
+// set, so that the precedence is flag > environment > file > default. CLI11 reads the file before
+// the environment and lets the first source win; a container's `-e` or a Kubernetes Secret must
+// override a mounted file, as it does for most servers.
+class FileBelowEnvironment : public CLI::ConfigTOML {
+public:
+    std::vector<CLI::ConfigItem> from_config(std::istream& input) const override {
+        std::vector<CLI::ConfigItem> items = CLI::ConfigTOML::from_config(input);
+        std::erase_if(items, [](const CLI::ConfigItem& item) {
+            const char* value = std::getenv(environment_name(item.name).c_str());
+            return item.parents.empty() && value != nullptr && *value != '\0';
+        });
+        return items;
+    }
+};
+
+} // namespace
 
 Config parse_config(int argc, char** argv) {
     Config c;
@@ -21,11 +51,10 @@ Config parse_config(int argc, char** argv) {
     CLI::App app{"ddsimp-server: data-dependent surface simplification as a service"};
     app.set_version_flag("--version", "ddsimp-server 0.1.0");
     app.set_config("--config", "", "read options from an INI file (key = value)");
+    app.config_formatter(std::make_shared<FileBelowEnvironment>());
     app.option_defaults()->always_capture_default();
     const auto opt = [&](const std::string& name, auto& value, const std::string& help) {
-        std::string env = "DDSIMP_" + name.substr(2);
-        for (char& ch : env) ch = ch == '-' ? '_' : char(std::toupper(ch));
-        return app.add_option(name, value, help)->envname(env);
+        return app.add_option(name, value, help)->envname(environment_name(name));
     };
     opt("--bind", c.bind, "address to listen on (0.0.0.0 for every interface)");
     opt("--port", c.port, "native protocol port");

@@ -35,7 +35,15 @@ size_t ComputedRecord::bytes() const {
     const Surface& v = record.vertices();
     size_t b = 4 * (v.positions.size() + v.triangles.size());
     for (const Field& f : v.fields) b += 4 * f.values.size();
-    return b + 24 * record.triangles_in() + 24 * record.operations() + sizeof(*this);
+    // per operation: its triangle count, its collapse or writes, its level error
+    return b + 24 * record.triangles_in() + 32 * record.operations() + sizeof(*this);
+}
+
+void set_level_error(v1::LevelError& out, const ProgressiveRecord& record, size_t operations) {
+    const LevelError e = record.error_after(operations);
+    out.set_geometric(e.geometric);
+    out.set_data(e.data);
+    out.set_data_components(uint32_t(e.data_components));
 }
 
 size_t target_triangles(const ProgressiveRecord& record, double keep) {
@@ -69,10 +77,11 @@ std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& comp
     const size_t target = target_triangles(computed.record, keep);
     return cache_.get<EncodedLevel>(
         "level/" + key + "/" + std::to_string(target) + "/" + std::to_string(int(encoding)), [&] {
-            const Surface s = computed.record.level(target);
+            const size_t operations = computed.record.operations_for(target);
+            const Surface s = computed.record.after(operations);
             auto out = std::make_shared<EncodedLevel>(
                 EncodedLevel{protocol::encode_mesh(s, encoding), s.triangle_count(),
-                             s.triangle_count() <= target});
+                             s.triangle_count() <= target, operations});
             const size_t bytes = out->blob.bytes.size() + sizeof(EncodedLevel);
             return std::pair<std::shared_ptr<const EncodedLevel>, size_t>{std::move(out), bytes};
         });

@@ -43,7 +43,11 @@ struct EncodedLevel {
     protocol::EncodedBlob blob;
     size_t triangles = 0;
     bool target_reached = false;
+    size_t operations = 0; // of the record, to this level
 };
+
+// The error of the level after `operations` operations of `record`, as MeshBegin carries it.
+void set_level_error(v1::LevelError& out, const ProgressiveRecord& record, size_t operations);
 
 // The triangle count a keep fraction asks for, as `ddsimp simplify --keep` counts it.
 size_t target_triangles(const ProgressiveRecord& record, double keep);

@@ -21,6 +21,14 @@ Strategy strategy_of(v1::Strategy s) {
     return s == v1::VERTEX_REMOVAL ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
 }
 
+// PLACEMENT_UNSPECIFIED (and a value this server does not know) is the midpoint, as in protocol
+// version 1 from the start.
+Placement placement_of(v1::Placement p) {
+    return p == v1::VOLUME        ? Placement::VolumePreserving
+           : p == v1::LEAST_ERROR ? Placement::LeastError
+                                  : Placement::Midpoint;
+}
+
 void set_fields(google::protobuf::RepeatedPtrField<v1::FieldInfo>* out, const StoredSurface& s) {
     for (const auto& f : s.fields) {
         v1::FieldInfo* info = out->Add();
@@ -269,8 +277,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
         params.surface = r.surface();
         params.alpha = r.alpha();
         params.strategy = strategy_of(r.strategy());
-        params.placement =
-            r.placement() == v1::VOLUME ? Placement::VolumePreserving : Placement::Midpoint;
+        params.placement = placement_of(r.placement());
         params.gradient_fields.assign(r.gradient_fields().begin(), r.gradient_fields().end());
         params.feature_angle = r.feature_angle();
         if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
@@ -329,6 +336,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
                     protocol::set_layout(p.begin, level->blob.layout);
                     p.begin.set_total_triangles(level->triangles);
                     p.begin.set_target_reached(level->target_reached);
+                    set_level_error(*p.begin.mutable_error(), rec->record, level->operations);
                     levels.push_back(std::move(p));
                 }
             } else {
@@ -346,6 +354,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
                     protocol::set_layout(p.begin, blob->layout);
                     p.begin.set_total_triangles(triangles.size() / 3);
                     p.begin.set_target_reached(triangles.size() / 3 <= target);
+                    set_level_error(*p.begin.mutable_error(), rec->record, ops);
                     levels.push_back(std::move(p));
                     first = false;
                 }
@@ -480,12 +489,14 @@ void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState
     if (v.keep() != 0) s->view.set_keep(v.keep());
     if (!v.field().empty()) s->view.set_field(v.field());
     if (v.strategy() != v1::STRATEGY_UNSPECIFIED) s->view.set_strategy(v.strategy());
+    if (v.placement() != v1::PLACEMENT_UNSPECIFIED) s->view.set_placement(v.placement());
     s->leader = c->id();
     ++s->version;
     broadcast(*s, "view");
     const bool mesh_changed =
         before.surface() != s->view.surface() || before.alpha() != s->view.alpha() ||
-        before.keep() != s->view.keep() || before.strategy() != s->view.strategy();
+        before.keep() != s->view.keep() || before.strategy() != s->view.strategy() ||
+        before.placement() != s->view.placement();
     if (mesh_changed) ++s->view_version;
     if (mesh_changed && !s->view.surface().empty()) {
         std::vector<uint64_t> all;
@@ -499,6 +510,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
     params.surface = s.view.surface();
     params.alpha = s.view.alpha();
     params.strategy = strategy_of(s.view.strategy());
+    params.placement = placement_of(s.view.placement());
     const std::string key = result_key(params);
     remember_result(key, params);
     const float keep = s.view.keep() > 0 ? s.view.keep() : 1.0f;
@@ -514,12 +526,15 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
         std::shared_ptr<const EncodedLevel> raw, meshopt;
         std::string failure;
         double seconds = 0;
+        v1::LevelError error;
         try {
             bool computed = false;
             auto rec = reductions_.record(params, key, &computed);
             seconds = computed ? rec->seconds : 0;
             if (need_raw) raw = reductions_.level(*rec, key, keep, v1::RAW);
             if (need_meshopt) meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT);
+            set_level_error(error, rec->record,
+                            rec->record.operations_for(target_triangles(rec->record, keep)));
         } catch (const std::exception& e) {
             failure = e.what();
         }
@@ -546,6 +561,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
                 begin.set_seconds(seconds);
                 begin.set_result(key);
                 begin.set_surface(params.surface);
+                *begin.mutable_error() = error;
                 BulkItem item;
                 item.session = name;
                 item.begin_frame = protocol::encode_frame(begin);

@@ -337,7 +337,7 @@ ProgressiveRecord Simplifier::run() {
 }
 
 Result simplify(const Surface& input, const Options& options) {
-    const ProgressiveRecord record = ProgressiveRecord::build(input, options);
+    const ProgressiveRecord record = ProgressiveRecord::run(input, options, false);
     Result result;
     result.surface = record.after(record.operations());
     result.triangles_in = record.triangles_in();

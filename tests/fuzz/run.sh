@@ -6,13 +6,14 @@
 #
 #   tests/fuzz/run.sh SECONDS [TARGET...]     e.g. tests/fuzz/run.sh 60 frame server_stream
 #
-# DDSIMP_FUZZ_JOBS=N fuzzes N targets at a time (default 1).
+# DDSIMP_FUZZ_JOBS=N fuzzes N targets at a time (default 1); DDSIMP_FUZZ_BUILD=DIR builds in DIR
+# instead of build/fuzz (so that several people can fuzz from one work tree).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 
 seconds=${1:?usage: tests/fuzz/run.sh SECONDS [TARGET...]}
 shift
-build=build/fuzz
+build=${DDSIMP_FUZZ_BUILD:-build/fuzz}
 jobs=${DDSIMP_FUZZ_JOBS:-1}
 sanitize="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
 
@@ -23,10 +24,11 @@ cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     "-DCMAKE_C_FLAGS=$sanitize -fno-omit-frame-pointer" \
     "-DCMAKE_CXX_FLAGS=$sanitize -fno-omit-frame-pointer" \
     "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined" >/dev/null
-cmake --build "$build" --target fuzz_targets -j 2
-
 targets=("$@")
-if [[ ${#targets[@]} -eq 0 ]]; then
+if [[ ${#targets[@]} -gt 0 ]]; then # only the targets named
+    cmake --build "$build" -j 2 --target "${targets[@]/#/fuzz_}"
+else
+    cmake --build "$build" --target fuzz_targets -j 2
     for bin in "$build"/tests/fuzz/fuzz_*; do targets+=("${bin##*/fuzz_}"); done
 fi
 

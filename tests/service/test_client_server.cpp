@@ -410,6 +410,24 @@ TEST_F(ClientServer, RemoteCommandsEndToEnd) {
         EXPECT_LE(line["triangles"].get<double>(), line["keep"].get<double>() * 756);
         EXPECT_GE(line["seconds"].get<double>(), 0);
     }
+    const std::string midpoint_result = lines[0]["result"];
+
+    // --placement least-error is a result of its own; every line says the level's error, which
+    // is no smaller for the coarser level (the sample is a plane: its geometric error is 0).
+    CliRun least = run_cli("remote simplify --surface " + id +
+                               " --alpha 0.5 --keep 0.5,0.25 --placement least-error -o " +
+                               (dir_ / "least").string() + server,
+                           dir_);
+    ASSERT_EQ(least.status, 0) << least.err;
+    lines = json_lines(least.out);
+    ASSERT_EQ(lines.size(), 2u);
+    EXPECT_NE(lines[0]["result"], midpoint_result);
+    for (const char* error : {"geometric_error", "data_error"}) {
+        ASSERT_TRUE(lines[0].contains(error) && lines[1].contains(error)) << least.out;
+        EXPECT_GE(lines[0][error].get<double>(), lines[1][error].get<double>()) << error;
+    }
+    EXPECT_EQ(lines[1]["geometric_error"].get<double>(), 0);
+    EXPECT_GT(lines[1]["data_error"].get<double>(), 0);
 
     CliRun missing =
         run_cli("remote simplify --surface nope --keep 0.5 -o " + out.string() + server, dir_);

@@ -240,5 +240,44 @@ TEST_F(HostileClients, AReaderThatStopsMidMeshIsDroppedWithinItsQueueBound) {
     expect_peak_within((kCacheMiB + kQueueMiB) * kMiB + kAllocatorSlack);
 }
 
+// af17e1f: a client waiting for its own request is not idle. Nothing is sent while a level is
+// computed, and a computation longer than --idle-timeout used to end the connection of the
+// client that asked for it. The timeout here is a quarter of what the same simplification (the
+// first level of a surface computes its whole record: vertex removal down to keep 0.001) takes
+// in this process, so the request outlasts it on any machine and under any sanitizer. The client
+// gets its level; a client that only said Hello is still dropped, and so is the first one once
+// it has what it asked for.
+TEST(IdleTimeout, AClientWaitingForItsOwnRequestIsNotIdle) {
+    constexpr float kKeep = 0.001f;
+    const Surface input = with_test_fields(icosphere(6)); // 81920 triangles
+    Options options;
+    options.alpha = 0.3f;
+    options.keep_fraction = kKeep;
+    options.placement = Placement::Midpoint;
+    options.strategy = Strategy::VertexRemoval;
+    const auto start = std::chrono::steady_clock::now();
+    const Surface expected = simplify(input, options).surface;
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    ServerProcess server(temp_dir("idle-timeout"), {"--idle-timeout", std::to_string(seconds / 4)});
+    RawClient asking(server.port);
+    asking.hello({});
+    const std::string surface = asking.upload(input, 1).surface();
+    v1::Request request = level_request(surface, {kKeep}, 7);
+    request.set_strategy(v1::VERTEX_REMOVAL);
+    asking.send(request);
+    RawClient idle(server.port);
+    idle.hello({});
+
+    const RawClient::Level level = asking.level();
+    EXPECT_EQ(level.begin.request_id(), 7u);
+    const Surface got = protocol::decode_mesh(level.bytes, protocol::layout_of(level.begin));
+    EXPECT_TRUE(same_bytes(got, expected));
+    EXPECT_EQ(asking.expect<v1::RequestDone>().request_id(), 7u);
+    EXPECT_TRUE(idle.closed_by_server(std::chrono::seconds(60)));
+    EXPECT_TRUE(asking.closed_by_server(std::chrono::seconds(60)));
+}
+
 } // namespace
 } // namespace ddsimp::test

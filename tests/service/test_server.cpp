@@ -135,6 +135,92 @@ TEST_F(Server, ProgressiveRefinementsRebuildEveryLevel) {
     }
 }
 
+// The library's record for (surface, alpha, options) as the server computes it.
+ProgressiveRecord offline_record(const Surface& in, float alpha, Strategy strategy,
+                                 Placement placement) {
+    Options o;
+    o.alpha = alpha;
+    o.strategy = strategy;
+    o.placement = placement;
+    o.keep_fraction = 0;
+    return ProgressiveRecord::build(in, o);
+}
+
+// The error the library records for the level a keep fraction asks for.
+LevelError offline_error(const ProgressiveRecord& rec, float keep) {
+    const size_t target = size_t(std::floor(double(keep) * double(rec.triangles_in()) + 1e-9));
+    return rec.error_after(rec.operations_for(target));
+}
+
+void expect_error(const v1::MeshBegin& begin, const LevelError& expected) {
+    ASSERT_TRUE(begin.has_error()) << "keep " << begin.keep();
+    EXPECT_EQ(begin.error().geometric(), expected.geometric) << "keep " << begin.keep();
+    EXPECT_EQ(begin.error().data(), expected.data) << "keep " << begin.keep();
+    EXPECT_EQ(begin.error().data_components(), expected.data_components);
+}
+
+// Every level carries the library's error for that level, whole or as a refinement, and
+// PLACEMENT LEAST_ERROR asks for the library's least-error point (a result of its own).
+TEST_F(Server, LevelsCarryTheLibrarysErrorAndLeastErrorPlacement) {
+    RawClient c(server_->port);
+    c.hello();
+    const Surface s = test_surface();
+    const std::string id = c.upload(s, 1).surface();
+    const ProgressiveRecord least =
+        offline_record(s, 0.3f, Strategy::EdgeCollapse, Placement::LeastError);
+    std::string least_key;
+    for (bool progressive : {false, true}) {
+        v1::Request r = request_for(id, {0.5f, 0.05f, 0.2f}, progressive ? 21 : 20);
+        r.set_placement(v1::LEAST_ERROR);
+        r.set_progressive(progressive);
+        c.send(r);
+        float last = INFINITY;
+        for (float keep : {0.05f, 0.2f, 0.5f}) {
+            const RawClient::Level l = c.level();
+            ASSERT_EQ(l.begin.keep(), keep);
+            expect_error(l.begin, offline_error(least, keep));
+            EXPECT_LE(l.begin.error().geometric(), last); // finer levels, no larger errors
+            last = l.begin.error().geometric();
+            least_key = l.begin.result();
+            if (progressive) continue;
+            Surface got = protocol::decode_mesh(l.bytes, protocol::layout_of(l.begin));
+            Options o;
+            o.alpha = 0.3f;
+            o.placement = Placement::LeastError;
+            o.keep_fraction = keep;
+            EXPECT_TRUE(same_bytes(got, simplify(s, o).surface)) << "keep " << keep;
+        }
+        EXPECT_GT(last, 0.0f);
+        c.expect<v1::RequestDone>();
+    }
+    // The default placement is the midpoint, a different result with its own errors.
+    c.send(request_for(id, {0.05f}, 22));
+    const RawClient::Level l = c.level();
+    EXPECT_NE(l.begin.result(), least_key);
+    expect_error(
+        l.begin,
+        offline_error(offline_record(s, 0.3f, Strategy::EdgeCollapse, Placement::Midpoint), 0.05f));
+    c.expect<v1::RequestDone>();
+
+    // A session's mesh carries its error too, and the view's placement.
+    v1::JoinSession join;
+    join.set_name("errors");
+    c.send(join);
+    c.expect<v1::SessionState>();
+    v1::SetSessionState set;
+    set.set_name("errors");
+    set.mutable_view()->set_surface(id);
+    set.mutable_view()->set_keep(0.2f);
+    set.mutable_view()->set_alpha(0.3f);
+    set.mutable_view()->set_placement(v1::LEAST_ERROR);
+    set.set_set_alpha(true);
+    c.send(set);
+    EXPECT_EQ(c.expect<v1::SessionState>().view().placement(), v1::LEAST_ERROR);
+    const RawClient::Level shown = c.level();
+    EXPECT_EQ(shown.begin.session(), "errors");
+    expect_error(shown.begin, offline_error(least, 0.2f));
+}
+
 // Four clients ask for the same reduction at once: one computation of the record.
 TEST_F(Server, IdenticalConcurrentRequestsComputeOnce) {
     const Surface s = with_test_fields(icosphere(6)); // 81920 triangles: a run worth sharing

@@ -14,6 +14,7 @@ import { Viewer } from './viewer.js';
 
 const Encoding = enumValues('Encoding');
 const Strategy = enumValues('Strategy');
+const Placement = enumValues('Placement');
 const ErrorCode = enumValues('Error.Code');
 const MAX_PREVIEW_LEVELS = 4;
 
@@ -26,15 +27,17 @@ const $ = (id) => document.getElementById(id);
 const ui = {
   status: $('status'), notice: $('notice'), surface: $('surface'), field: $('field'),
   alpha: $('alpha'), alphaValue: $('alpha-value'), level: $('level'), levelValue: $('level-value'),
-  strategy: $('strategy'), triangles: $('triangles'), trianglesOf: $('triangles-of'),
+  strategy: $('strategy'), placement: $('placement'), triangles: $('triangles'),
+  trianglesOf: $('triangles-of'), levelError: $('level-error'),
   reduction: $('reduction'), time: $('time'), levels: $('levels'), session: $('session'),
   progress: $('progress'), progressText: $('progress-text'), legend: $('legend'),
 };
 
 const state = {
   surfaces: [],
+  // Placement: the library's default (least error); the protocol's unspecified is the midpoint.
   view: { surface: params.get('surface') ?? '', alpha: 0.5, keep: 0.5, field: '',
-    strategy: Strategy.EDGE_COLLAPSE },
+    strategy: Strategy.EDGE_COLLAPSE, placement: Placement.LEAST_ERROR },
   mesh: new MeshState(),
   meshSurface: '', // the surface the mesh shown belongs to
   meshBegin: null, // the MeshBegin of the last level applied
@@ -169,7 +172,8 @@ function onSessionState(m) {
     connection.send('SetSessionState', {
       name: sessionName, set_alpha: true,
       view: { surface: state.view.surface, alpha: state.view.alpha, keep: state.view.keep,
-        field: state.view.field, strategy: state.view.strategy },
+        field: state.view.field, strategy: state.view.strategy,
+        placement: state.view.placement },
     });
     return;
   }
@@ -189,12 +193,14 @@ function onSessionState(m) {
   state.view.alpha = fromFloat32(v.alpha);
   if (v.keep > 0) state.view.keep = fromFloat32(v.keep);
   if (v.strategy) state.view.strategy = v.strategy;
+  state.view.placement = v.placement || Placement.MIDPOINT; // what the server uses for unset
   if (before.surface !== v.surface) fillFields();
   if (v.field && surfaceInfo(v.surface).fields.some((f) => f.name === v.field))
     state.view.field = v.field;
   showControls();
   const meshChanged = before.surface !== state.view.surface || before.alpha !== state.view.alpha ||
-    before.keep !== state.view.keep || before.strategy !== state.view.strategy;
+    before.keep !== state.view.keep || before.strategy !== state.view.strategy ||
+    before.placement !== state.view.placement;
   if (meshChanged && !state.waiting) startWaiting();
   if (before.field !== state.view.field) recolour();
 }
@@ -340,7 +346,8 @@ function requestMesh() {
   state.incoming = null;
   connection.send('Request', {
     request_id: state.request.id, surface: info.surface, alpha: state.view.alpha, keep,
-    strategy: state.view.strategy, progressive: true, encoding: Encoding.MESHOPT,
+    strategy: state.view.strategy, placement: state.view.placement, progressive: true,
+    encoding: Encoding.MESHOPT,
   });
   startWaiting();
 }
@@ -418,7 +425,36 @@ function display(surface, begin) {
   ui.reduction.textContent = `${formatValue(percent)}% of the triangles kept` +
     (begin.target_reached ? '' : ' (the target was not reached: nothing more is removable ' +
       'without changing the topology)');
+  showLevelError(begin.error);
   notice('');
+}
+
+// A fraction as a percentage with two significant digits (0.00123 -> "0.12%").
+function asPercent(x) {
+  const p = 100 * x;
+  return p === 0 ? '0%' : p >= 10 ? `${p.toFixed(1)}%` : `${Number(p.toPrecision(2))}%`;
+}
+
+// MeshBegin.error: geometric in bounding-box diagonals, data in field ranges; the raw numbers
+// are kept as data attributes for tests and tools.
+function showLevelError(error) {
+  const el = ui.levelError;
+  if (!error) {
+    el.textContent = '– (this server does not say)';
+    delete el.dataset.geometric;
+    delete el.dataset.data;
+    return;
+  }
+  el.dataset.geometric = String(error.geometric);
+  const parts = [`${asPercent(error.geometric)} of diagonal (geometry)`];
+  if (error.data_components > 0) {
+    el.dataset.data = String(error.data);
+    parts.push(`${asPercent(error.data)} of range (data)`);
+  } else {
+    delete el.dataset.data;
+    parts.push('no data measured');
+  }
+  el.textContent = parts.join(', ');
 }
 
 function recolour() {
@@ -428,13 +464,15 @@ function recolour() {
 // ----- the controls -----
 
 function showControls() {
-  for (const input of [ui.alpha, ui.level, ui.field, ui.surface, ui.strategy])
+  for (const input of [ui.alpha, ui.level, ui.field, ui.surface, ui.strategy, ui.placement])
     if (input.dataset.dragging) return; // the user's hand wins until released
   ui.surface.value = state.view.surface;
   ui.alpha.value = String(state.view.alpha);
   ui.level.value = String(state.view.keep);
   ui.field.value = state.view.field;
   ui.strategy.value = String(state.view.strategy || Strategy.EDGE_COLLAPSE);
+  ui.placement.value = String(state.view.placement || Placement.MIDPOINT);
+  ui.placement.disabled = Number(ui.strategy.value) === Strategy.VERTEX_REMOVAL;
   showControlValues();
 }
 
@@ -485,9 +523,16 @@ slider(ui.alpha, 'alpha');
 slider(ui.level, 'keep');
 ui.field.addEventListener('change', () => change({ field: ui.field.value }));
 ui.surface.addEventListener('change', () => change({ surface: ui.surface.value }));
-ui.strategy.addEventListener('change', () => change({ strategy: Number(ui.strategy.value) }));
+ui.strategy.addEventListener('change', () => {
+  ui.placement.disabled = Number(ui.strategy.value) === Strategy.VERTEX_REMOVAL;
+  change({ strategy: Number(ui.strategy.value) });
+});
+ui.placement.addEventListener('change', () => change({ placement: Number(ui.placement.value) }));
 $('edges').addEventListener('change', (e) => viewer.showEdges(e.target.checked));
 ui.strategy.replaceChildren(new Option('edge collapse', String(Strategy.EDGE_COLLAPSE)),
   new Option('vertex removal', String(Strategy.VERTEX_REMOVAL)));
+ui.placement.replaceChildren(new Option('least error', String(Placement.LEAST_ERROR)),
+  new Option('midpoint', String(Placement.MIDPOINT)),
+  new Option('volume-preserving', String(Placement.VOLUME)));
 showControls();
 if (sessionName) ui.session.textContent = `${sessionName}: joining…`;

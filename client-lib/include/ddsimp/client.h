@@ -172,6 +172,9 @@ struct Level {
     bool cached = false;
     std::string result; // the result's key, for LevelRequest::result after a reconnect
     bool target_reached = false;
+    // How far the level is from the surface (see LevelError: geometric in bounding-box
+    // diagonals, data in field ranges); empty from a server that does not send it.
+    std::optional<LevelError> error;
 };
 
 // Called for every level of a request as it arrives (coarsest first), on the network thread.

@@ -213,6 +213,25 @@ const char* describe(StopReason reason);
 // invalid input or options.
 Result simplify(const Surface& input, const Options& options);
 
+// How far a level of a ProgressiveRecord is from the repaired input (docs/algorithm.md, "The
+// error of a level"): the geometry in bounding-box diagonals, the data in field ranges, RMS over
+// the data components that drive the weight (Options::gradient_fields).
+// - Edge collapse: for every vertex a collapse made, the area-weighted RMS distance from it to the
+//   planes of the input triangles (and boundary edges) it stands for, and the RMS difference
+//   between its data and the input data's linear interpolation on those triangles (the error
+//   quadric's meaning): a typical deviation over the region the vertex replaced.
+// - Vertex removal: for every removed input vertex, its distance to the nearest point of the
+//   level's triangle that covers it, and the difference between its data and the level's
+//   interpolation there: a bound on how far the input's vertices are from the level.
+// A level's numbers are the largest over its operations, so they never fall as the level
+// coarsens. Neither is a Hausdorff distance. The same whatever Options::terms ordered the
+// operations.
+struct LevelError {
+    float geometric = 0;        // in bounding-box diagonals of the input
+    float data = 0;             // in field ranges (0 when data_components is 0)
+    size_t data_components = 0; // the data components measured (0: no data error measured)
+};
+
 // The ordered operations of one run for (surface, options), from which every coarser level is
 // extracted without re-running: `level(n)` equals `simplify` with target_triangles = n exactly,
 // as long as that run would stop for its target and not earlier.
@@ -243,9 +262,17 @@ public:
     size_t triangles_after(size_t i) const { return triangles_after_[i]; }
     StopReason stop() const { return stop_; }
     const RepairReport& repairs() const { return repairs_; }
+    // The error of the level after `operations` operations (0 = the repaired input: no error);
+    // see LevelError. Costs 8 bytes per operation.
+    LevelError error_after(size_t operations) const;
 
 private:
     friend class Simplifier;
+    friend Result simplify(const Surface& input, const Options& options);
+    // build without the level errors (simplify needs only the last level).
+    static ProgressiveRecord run(const Surface& input, const Options& options, bool measure);
+    // level_error.cpp: fills level_error_ from the record (after the run).
+    void measure_errors(const std::vector<std::string>& gradient_fields);
     Strategy strategy_ = Strategy::EdgeCollapse;
     Surface vertices_; // input vertices, then the points made by collapses (no triangles)
     std::vector<uint32_t> base_triangles_;  // the repaired input's triangles
@@ -261,6 +288,10 @@ private:
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;
     std::vector<uint32_t> writes_;
+    // Per operation: the geometric and the data error after it (running maxima); empty when not
+    // measured.
+    std::vector<float> level_error_;
+    size_t error_components_ = 0;
 };
 
 } // namespace ddsimp
