@@ -132,6 +132,18 @@ std::string check_field_data(const std::string& path, std::streamoff offset, int
     return "";
 }
 
+// The section VTK's readers take `word` for: they compare the lower-cased word's start with each
+// keyword ("FIELDvtkidty" is a FIELD section to them), so this does too.
+std::string vtk_section(const std::string& word) {
+    static const char* const keywords[] = {"points",    "cells",    "cell_types",      "vertices",
+                                           "lines",     "polygons", "triangle_strips", "point_data",
+                                           "cell_data", "field"};
+    const std::string lowered = lower(word);
+    for (const char* k : keywords)
+        if (lowered.rfind(k, 0) == 0) return k;
+    return lowered;
+}
+
 // A number as `>>` reads a double (digits, sign, point, exponent; not "nan" or "inf", which
 // libstdc++ does not read either).
 bool is_number_word(const std::string& word) {
@@ -181,7 +193,7 @@ std::string check_declared_size(const std::vector<std::string>& words, int64_t l
         std::string rest;
         return bool(in >> v) && !(in >> rest);
     };
-    const std::string section = lower(words[0]);
+    const std::string section = vtk_section(words[0]);
     if (words.size() == 4 && integer(words[1], a) && integer(words[2], b) &&
         is_vtk_type(words[3]) && too_many(a, b))
         return "array " + words[0] + " declares " + words[1] + " components of " + words[2] +
@@ -232,7 +244,7 @@ std::string check_legacy_vtk(const std::string& path) {
         std::string keyword, extra;
         int64_t cells = 0, size = 0;
         if (!(words >> keyword)) continue;
-        const std::string section = lower(keyword);
+        const std::string section = vtk_section(keyword);
         if (section == "point_data" || section == "cell_data") in_attributes = true;
         // VTK's polydata reader ignores a failure to read the points and takes the next word
         // for a keyword: "-4.2FieldData" in the coordinates became a FIELD section it could not

@@ -1,5 +1,8 @@
 #include "ddsimp/protocol/frame.h"
 
+#include <google/protobuf/io/coded_stream.h>
+#include <google/protobuf/wire_format_lite.h>
+
 #include <cstring>
 
 namespace ddsimp::protocol {
@@ -64,6 +67,32 @@ std::string encode_frame(v1::MessageType type, const google::protobuf::MessageLi
     write_header(bytes, type, uint32_t(length));
     message.SerializeWithCachedSizesToArray(bytes + kHeaderBytes);
     return frame;
+}
+
+std::string encode_frame_head(v1::MessageType type, const google::protobuf::MessageLite& message,
+                              int field_number, size_t field_bytes) {
+    using google::protobuf::internal::WireFormatLite;
+    using google::protobuf::io::CodedOutputStream;
+    const uint32_t tag =
+        WireFormatLite::MakeTag(field_number, WireFormatLite::WIRETYPE_LENGTH_DELIMITED);
+    const size_t message_bytes = message.ByteSizeLong();
+    // proto3 leaves an empty bytes field out.
+    const size_t field_head = field_bytes == 0 ? 0
+                                               : CodedOutputStream::VarintSize32(tag) +
+                                                     CodedOutputStream::VarintSize64(field_bytes);
+    const size_t length = message_bytes + field_head + field_bytes;
+    if (length > UINT32_MAX)
+        throw FrameError("a " + message_type_name(type) + " message of " + std::to_string(length) +
+                         " bytes does not fit in a frame");
+    std::string head(kHeaderBytes + message_bytes + field_head, '\0');
+    auto* bytes = reinterpret_cast<unsigned char*>(head.data());
+    write_header(bytes, type, uint32_t(length));
+    bytes = message.SerializeWithCachedSizesToArray(bytes + kHeaderBytes);
+    if (field_bytes > 0) {
+        bytes = CodedOutputStream::WriteVarint32ToArray(tag, bytes);
+        CodedOutputStream::WriteVarint64ToArray(field_bytes, bytes);
+    }
+    return head;
 }
 
 std::optional<Frame> FrameDecoder::next() {

@@ -358,7 +358,7 @@ void Connection::account_queue() {
 
 void Connection::pump() {
     if (writing_ || closed_) return;
-    std::optional<std::string> frame = queue_.next_frame();
+    std::optional<OutgoingFrame> frame = queue_.next_frame();
     account_queue();
     if (!frame) {
         if (closing_) transport_->close(true);

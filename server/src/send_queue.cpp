@@ -34,12 +34,12 @@ size_t SendQueue::drop_unstarted(const std::function<bool(const BulkItem&)>& sta
     return dropped;
 }
 
-std::optional<std::string> SendQueue::next_frame() {
-    std::string frame;
+std::optional<OutgoingFrame> SendQueue::next_frame() {
+    OutgoingFrame frame;
     if (!control_.empty()) {
-        frame = std::move(control_.front());
+        frame.head = std::move(control_.front());
         control_.pop_front();
-        pending_ -= frame.size();
+        pending_ -= frame.head.size();
         return frame;
     }
     if (bulk_.empty()) return std::nullopt;
@@ -48,26 +48,28 @@ std::optional<std::string> SendQueue::next_frame() {
     if (!a.begun) {
         a.begun = true;
         pending_ -= a.item.begin_frame.size();
-        frame = std::move(a.item.begin_frame);
+        frame.head = std::move(a.item.begin_frame);
     } else if (a.offset < blob_size) {
         const size_t n = std::min(chunk_bytes_, blob_size - a.offset);
-        v1::MeshChunk chunk;
+        v1::MeshChunk chunk; // its data (field 4, the last) is the blob's slice
         chunk.set_request_id(a.item.request_id);
         chunk.set_level(a.item.level);
         chunk.set_offset(a.offset);
-        chunk.set_data(a.item.blob->data() + a.offset, n);
+        frame.head = protocol::encode_frame_head(chunk, v1::MeshChunk::kDataFieldNumber, n);
+        frame.body = a.item.blob;
+        frame.body_offset = a.offset;
+        frame.body_bytes = n;
         a.offset += n;
         pending_ -= n;
-        frame = protocol::encode_frame(chunk);
     } else if (!a.ended) {
         a.ended = true;
         v1::MeshEnd end;
         end.set_request_id(a.item.request_id);
         end.set_level(a.item.level);
-        frame = protocol::encode_frame(end);
+        frame.head = protocol::encode_frame(end);
     } else {
-        frame = std::move(a.item.after[a.after_sent++]);
-        pending_ -= frame.size();
+        frame.head = std::move(a.item.after[a.after_sent++]);
+        pending_ -= frame.head.size();
     }
     if (a.ended && a.after_sent == a.item.after.size()) bulk_.pop_front();
     return frame;

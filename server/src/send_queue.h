@@ -1,8 +1,10 @@
 // One client's outgoing frames: control messages ahead of bulk, bulk levels cut into chunk
 // frames only when they are about to be written (the level's bytes are shared with the cache,
-// not copied per client), and a count of the bytes still to send so a client that cannot keep
-// up is noticed. Used on the network thread only.
+// neither copied per client nor into the chunk frames), and a count of the bytes still to send so a
+// client that cannot keep up is noticed. Used on the network thread only.
 #pragma once
+
+#include "transport.h"
 
 #include "ddsimp/protocol/frame.h"
 
@@ -36,8 +38,9 @@ public:
     // Removes bulk items not yet begun for which `stale` is true; returns how many.
     size_t drop_unstarted(const std::function<bool(const BulkItem&)>& stale);
 
-    // The next frame to write, control first; nothing if the queue is empty.
-    std::optional<std::string> next_frame();
+    // The next frame to write, control first; nothing if the queue is empty. A chunk's data
+    // stays in the shared blob (OutgoingFrame::body).
+    std::optional<OutgoingFrame> next_frame();
     bool empty() const { return control_.empty() && bulk_.empty(); }
     size_t pending_bytes() const { return pending_; }
 

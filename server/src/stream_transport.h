@@ -32,14 +32,14 @@ public:
         read_header();
     }
 
-    void write(std::string frame) override {
+    void write(OutgoingFrame frame) override {
         out_ = std::move(frame);
         write_timer_.expires_after(limits_.send_timeout);
         write_timer_.async_wait([self = this->shared_from_this()](boost::system::error_code ec) {
             if (!ec && self->handler_) self->handler_->on_write_timeout();
         });
         asio::async_write(
-            stream_, asio::buffer(out_),
+            stream_, out_.buffers(),
             [self = this->shared_from_this()](boost::system::error_code ec, size_t n) {
                 self->write_timer_.cancel();
                 self->writing_ = false;
@@ -79,7 +79,8 @@ private:
         asio::async_read(stream_, asio::buffer(payload_),
                          [self = this->shared_from_this()](boost::system::error_code ec, size_t) {
                              if (ec)
-                                 return self->shutdown("truncated frame: " + describe_read_error(ec));
+                                 return self->shutdown("truncated frame: " +
+                                                       describe_read_error(ec));
                              if (!self->handler_ || self->closing_) return;
                              self->handler_->on_frame({self->type_, std::move(self->payload_)});
                              if (!self->closing_) self->read_header();
@@ -113,7 +114,7 @@ private:
     std::array<unsigned char, protocol::kHeaderBytes> header_{};
     v1::MessageType type_ = v1::MESSAGE_TYPE_UNSPECIFIED;
     std::string payload_;
-    std::string out_;
+    OutgoingFrame out_;
     bool writing_ = false, closing_ = false, closed_ = false;
 };
 

@@ -33,14 +33,14 @@ public:
         read();
     }
 
-    void write(std::string frame) override {
+    void write(OutgoingFrame frame) override {
         out_ = std::move(frame);
         writing_ = true;
         write_timer_.expires_after(send_timeout_);
         write_timer_.async_wait([self = this->shared_from_this()](boost::system::error_code ec) {
             if (!ec && self->handler_) self->handler_->on_write_timeout();
         });
-        ws_.async_write(boost::asio::buffer(out_),
+        ws_.async_write(out_.buffers(),
                         [self = this->shared_from_this()](beast::error_code ec, size_t n) {
                             self->write_timer_.cancel();
                             self->writing_ = false;
@@ -105,7 +105,7 @@ private:
     boost::asio::steady_timer write_timer_;
     std::shared_ptr<TransportHandler> handler_;
     beast::flat_buffer in_;
-    std::string out_;
+    OutgoingFrame out_;
     bool writing_ = false, closing_ = false, closed_ = false;
 };
 

@@ -27,8 +27,10 @@ public:
         handler_ = std::move(handler);
     }
 
-    void write(std::string frame) override {
+    void write(server::OutgoingFrame out) override {
         FUZZ_CHECK(!writing_); // one write at a time
+        std::string frame = out.head;
+        if (out.body) frame.append(*out.body, out.body_offset, out.body_bytes);
         check_frame(frame);
         writing_ = true;
         boost::asio::post(io_, [self = shared_from_this(), n = frame.size()] {

@@ -380,3 +380,20 @@ TEST(FuzzRegressions, LegacyVtkPointCoordinatesThatAreNotNumbersAreRefused) {
                                      ": line 8: POINTS 56: point 3 has '-4.20128FieldData', not "
                                      "a number");
 }
+
+// read_vtk, crash-7c03abec…: VTK's readers compare a keyword's start only, so "FIELDvtkidty" was a
+// FIELD section to them (and, unreadable, a null Delete()) but not to the checks, which compared
+// whole words. The checks take sections the way VTK does.
+TEST(FuzzRegressions, LegacyVtkKeywordsAreMatchedByTheirStartAsVtkDoes) {
+    const std::string file = write_file(
+        "field-prefix.vtk", "# vtk DataFile Version 4.2\nprefix\nASCII\nDATASET POLYDATA\n"
+                            "FIELDS FieldData 1\nInfo 1 3 nonsense\n1 2 3\nPOINTS 3 float\n"
+                            "0 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n");
+    EXPECT_EQ(read_error(file), "cannot read " + file +
+                                    ": the data set's FIELD section (line 5) cannot be read: "
+                                    "Unsupported data type: nonsense");
+    const std::string found = corpus_file_as_vtk("crash-7c03abecd0b7a0169d2f4d05d19eebd313019fa9");
+    EXPECT_NE(read_error(found).find(": the data set's FIELD section (line 5) cannot be read: "),
+              std::string::npos)
+        << read_error(found);
+}

@@ -82,6 +82,25 @@ TEST(Frame, EncodeAndParseARequest) {
               "expected a HELLO message, got REQUEST");
 }
 
+// A chunk written as head + data (no copy of the data into the message) is byte for byte the
+// frame protobuf itself serializes with the data set, for sizes whose length varint is 1..3 bytes.
+TEST(Frame, ChunkHeadFollowedByItsDataEqualsTheWholeFrame) {
+    for (size_t n :
+         {size_t(0), size_t(1), size_t(127), size_t(128), size_t(300), size_t(1) << 20}) {
+        std::string data(n, '\0');
+        for (size_t i = 0; i < n; ++i) data[i] = char(i * 31 + 7);
+        v1::MeshChunk chunk;
+        chunk.set_request_id(0x1234567890);
+        chunk.set_level(3);
+        chunk.set_offset(1u << 20);
+        const std::string head = encode_frame_head(chunk, v1::MeshChunk::kDataFieldNumber, n);
+        chunk.set_data(data);
+        EXPECT_EQ(head + data, encode_frame(chunk)) << n << " bytes";
+        EXPECT_EQ(parse_payload<v1::MeshChunk>(decode_single_frame(head + data, 2u << 20)).data(),
+                  data);
+    }
+}
+
 TEST(Frame, APayloadThatDoesNotParseIsAnError) {
     std::string frame = header_bytes("DDSP", 1, v1::REQUEST, 3) + "\xff\xff\xff";
     const Frame f = decode_single_frame(frame, 100);

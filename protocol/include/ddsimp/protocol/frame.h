@@ -50,6 +50,16 @@ FrameHeader read_header(const unsigned char* in, size_t max_frame_bytes);
 // A whole frame: header then payload. Throws FrameError if the payload exceeds 4 GiB.
 std::string encode_frame(v1::MessageType type, const google::protobuf::MessageLite& message);
 
+// The first bytes of the frame of `message` with its bytes field `field_number` (the highest
+// field number of the message, left unset in `message`) holding `field_bytes` bytes: the header,
+// `message`, and the field's tag and length. Followed by the field's bytes it equals
+// encode_frame of the message with the field set, so bulk data is written without a copy.
+std::string encode_frame_head(v1::MessageType type, const google::protobuf::MessageLite& message,
+                              int field_number, size_t field_bytes);
+
+template <class M>
+std::string encode_frame_head(const M& message, int field_number, size_t field_bytes);
+
 struct Frame {
     v1::MessageType type = v1::MESSAGE_TYPE_UNSPECIFIED;
     std::string payload;
@@ -85,6 +95,11 @@ template <class M> constexpr v1::MessageType message_type_of();
 
 template <class M> std::string encode_frame(const M& message) {
     return encode_frame(message_type_of<M>(), message);
+}
+
+template <class M>
+std::string encode_frame_head(const M& message, int field_number, size_t field_bytes) {
+    return encode_frame_head(message_type_of<M>(), message, field_number, field_bytes);
 }
 
 // A readable name for logs and errors ("UPLOAD_CHUNK", or "type 999").
