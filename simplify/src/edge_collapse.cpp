@@ -26,12 +26,11 @@ bool Simplifier::kinds_allow_collapse(uint32_t h) const {
     if (ka == VertexKind::Dead || kb == VertexKind::Dead) return false;
     if (ka == VertexKind::Corner && kb == VertexKind::Corner) return false;
     if (size_t(mesh_.valence[a]) + mesh_.valence[b] > kMaxNewValence + 4) return false;
-    // Two line vertices may only merge along their common line...
-    if (on_line(ka) && on_line(kb) && !mesh_.line[h]) return false;
-    // ...and an inner edge between two boundary vertices would pinch the surface.
-    if (mesh_.twin[h] != kNone && mesh_.is_boundary_vertex(a) && mesh_.is_boundary_vertex(b))
-        return false;
-    return true;
+    if (!on_line(ka) || !on_line(kb)) return true; // a boundary vertex is always on a line
+    // Two line vertices may only merge along their common line, and an inner edge between two
+    // boundary vertices would pinch the surface.
+    if (!mesh_.line[h]) return false;
+    return mesh_.twin[h] == kNone || !mesh_.is_boundary_vertex(a) || !mesh_.is_boundary_vertex(b);
 }
 
 bool Simplifier::collapsible(uint32_t h) const {
@@ -45,7 +44,7 @@ bool Simplifier::collapsible(uint32_t h) const {
     return false;
 }
 
-HeapKey Simplifier::collapse_key(uint32_t h) const {
+Key Simplifier::collapse_key(uint32_t h) const {
     if (quadric_terms_) {
         CollapsePlan plan;
         place(h, plan);
@@ -56,16 +55,6 @@ HeapKey Simplifier::collapse_key(uint32_t h) const {
 
 void Simplifier::update_length(uint32_t h) {
     length_[h] = float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
-}
-
-void Simplifier::refresh_edge(uint32_t h) {
-    // One heap entry per edge, under its lower half-edge id.
-    if (const uint32_t t = mesh_.twin[h]; t != kNone && t < h) h = t;
-    // Only a lighter key moves now; a key left too light is corrected when it comes up
-    // (step_collapse), so the lightest edge is still always the one taken. A stale entry is
-    // dropped when it comes up, so only a move or an insertion needs the (dearer) checks.
-    const HeapKey key = collapse_key(h);
-    if ((!heap_.contains(h) || key < heap_.key(h)) && collapsible(h)) heap_.set(h, key);
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
@@ -283,9 +272,6 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     auto merge = [&](uint32_t e1, uint32_t e2) {
         const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
         const uint8_t l = m.line[e1] | m.line[e2];
-        // The merged edge's heap entry goes under the lower of the two (refresh_around sets it:
-        // the edge is at the new vertex); the higher may still hold its old edge's entry.
-        if (o1 != kNone && o2 != kNone) heap_.erase(std::max(o1, o2));
         if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l;
         if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l;
     };
@@ -295,7 +281,6 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     for (uint32_t t : {t0, t1}) {
         if (t == kNone) continue;
         for (uint32_t c = 0; c < 3; ++c) {
-            heap_.erase(3 * t + c);
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
         }
         --m.live_triangles;
@@ -332,29 +317,28 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     made_.insert(made_.end(), dn, dn + m.stride);
     ++operations_;
 
+    // n, then its apexes (which lost a neighbour and may have merged line flags), then the rest
+    // of its ring.
     uint32_t changed[2 * kMaxValence + 3];
     changed[0] = n;
     const size_t k = m.ring(n, changed + 1, 2 * kMaxValence + 2);
-    refresh_around(changed, k + 1);
+    size_t kept_from = 1;
+    for (size_t i = 1; i <= k; ++i)
+        if (changed[i] == x || changed[i] == y) std::swap(changed[i], changed[kept_from++]);
+    refresh_around(changed, k + 1, kept_from);
 }
 
 void Simplifier::step_collapse(uint32_t h) {
-    if (!collapsible(h)) {
-        heap_.erase(h);
-        return;
-    }
-    const HeapKey key = collapse_key(h);
-    if (heap_.top_key() < key) { // its weight went up since it was queued
-        heap_.set(h, key);
-        return;
-    }
-    heap_.erase(h);
+    // Gone, or next to an earlier operation of this pass (which may also have merged h's edge
+    // into another): its key is out of date, the next pass ranks it again.
+    const uint32_t a = mesh_.origin[h];
+    if (a == kNone || busy_[a] == pass_ || busy_[mesh_.dest(h)] == pass_) return;
     CollapsePlan plan;
     if (plan_collapse(h, plan)) {
         apply_collapse(plan);
         return;
     }
-    // Refused: it stays out of the heap until a change around it refreshes it.
+    // Refused: it is no candidate until a change around it.
     fail_[h] = uint32_t(operations_ + 1);
     fail_at_[h] = plan.refused_at;
     if (mesh_.twin[h] != kNone)

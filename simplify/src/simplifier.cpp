@@ -7,7 +7,6 @@
 
 namespace ddsimp {
 
-using detail::HeapKey;
 using detail::kNone;
 using detail::VertexKind;
 
@@ -83,12 +82,7 @@ Surface reordered(const Surface& s, const std::vector<uint32_t>& order,
 } // namespace
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
-    : options_(options),
-      // Edge collapse keeps one heap entry per edge (under a half-edge id), vertex removal one
-      // per vertex (under its input id, so that ties break as in the input's numbering).
-      heap_(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size()
-                                                       : surface.vertex_count()),
-      input_(surface) {
+    : options_(options), input_(surface) {
     check_options(options);
     if (!options.locked.empty() && options.locked.size() != surface.vertex_count())
         throw InputError("invalid option: locked has " + std::to_string(options.locked.size()) +
@@ -105,15 +99,19 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         mesh_.locked.assign(capacity, 0);
         for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
     }
+    mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
     mesh_.build(reordered(surface, id_, rank_), capacity, limits_from(options));
-    stamp_.assign(options.strategy == Strategy::EdgeCollapse ? surface.triangles.size() : capacity,
-                  0);
-    if (options.strategy == Strategy::EdgeCollapse) {
-        fail_.assign(surface.triangles.size(), 0);
+    const bool collapse = options.strategy == Strategy::EdgeCollapse;
+    // Edge collapse's ids are half-edges, vertex removal's vertices.
+    const size_t ids = collapse ? surface.triangles.size() : capacity;
+    fail_.assign(ids, 0);
+    listed_.assign(ids, 0);
+    epoch_.assign(capacity, 0);
+    busy_.assign(capacity, 0);
+    rekey_.assign(capacity, 0);
+    if (collapse) {
         fail_at_.assign(surface.triangles.size(), kNone);
         seen_.assign(capacity, 0);
-        epoch_.assign(capacity, 0);
-        lighter_.assign(capacity, 0);
     }
 
     record_.strategy_ = options.strategy;
@@ -124,7 +122,6 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (options.strategy == Strategy::VertexRemoval) {
         record_.write_begin_.push_back(0);
         ring_at_.assign(capacity, kNotInRing);
-        exact_.assign(capacity, 0);
     }
 
     const size_t n = surface.vertex_count();
@@ -154,20 +151,25 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     for (uint32_t v = 0; v < n && !quadric_terms_; ++v)
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
-    if (options.strategy == Strategy::EdgeCollapse) {
+    if (collapse) {
         length_.resize(surface.triangles.size());
-        for (uint32_t h = 0; h < surface.triangles.size(); ++h) update_length(h);
         for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
+            update_length(h);
             const uint32_t t = mesh_.twin[h];
-            if (t == kNone || h < t) refresh_edge(h);
+            if (t == kNone || h < t) pool_.push_back({h, kNever, {}}), listed_[h] = 1;
         }
-    } else
-        for (uint32_t v = 0; v < n; ++v) refresh_key(v);
+    } else {
+        shortest_.assign(capacity, 0);
+        for (uint32_t v = 0; v < n; ++v)
+            if (mesh_.kind[v] != VertexKind::Dead)
+                key_removal(v), pool_.push_back({v, kNever, {}}), listed_[v] = 1;
+    }
 }
 
 void Simplifier::refresh_vertex(uint32_t v) {
     // One fan walk: kind, valence, angle sum, steepest neighbour and, for vertex removal, the
-    // shortest edge (the key's tie-break). Same values as classify, weight and removal_key.
+    // shortest edge (the key's tie-break). Same values as classify, the constructor's weights
+    // and key_removal.
     // With the error quadrics, a vertex removal's weight is its error at the centre of its ring
     // (see removal_error), and an edge's comes from its ends' quadrics (collapse_key).
     detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
@@ -189,79 +191,85 @@ void Simplifier::refresh_vertex(uint32_t v) {
     const VertexKind k = mesh_.kind[v];
     const bool counted = k != VertexKind::Complex && k != VertexKind::Dead;
     if (quadric_terms_)
-        weight_[v] = ring_error && counted ? float(removal_error(v, ring, ring_size)) : 0.0f;
+        weight_[v] = ring_error && (k == VertexKind::Free || k == VertexKind::Line)
+                         ? float(removal_error(v, ring, ring_size))
+                         : 0.0f;
     else
         weight_[v] =
             float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
                   (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
-    if (!removal) return;
-    exact_[v] = 0;
-    if ((k != VertexKind::Free && k != VertexKind::Line) || std::isinf(weight_[v]))
-        heap_.erase(id_[v]);
-    else
-        heap_.set(id_[v], HeapKey{weight_[v], float(shortest)});
+    if (removal) shortest_[v] = float(shortest);
 }
 
-void Simplifier::refresh_key(uint32_t v) {
-    const HeapKey key = removal_key(v);
-    if (std::isinf(key.weight))
-        heap_.erase(id_[v]);
-    else
-        heap_.set(id_[v], key);
-}
-
-// After an operation: `changed` vertices have new neighbourhoods; their kinds and weights are
-// recomputed, then the keys that read them: their own (vertex removal), or those of the edges
-// around them (edge collapse); a refused far edge of one of their triangles, whose collapse
-// checks read the triangle's apex, goes back into the heap too.
-void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
-    if (options_.strategy != Strategy::EdgeCollapse) { // refresh_vertex sets the keys
-        for (size_t i = 0; i < count; ++i) refresh_vertex(changed[i]);
-        return;
-    }
+// After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are
+// recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
+// weight changed), and the rest of the pass leaves them alone. changed[0] is a collapse's new
+// vertex: its edges are new and join the pool.
+void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
     const uint32_t epoch = uint32_t(operations_ + 1);
+    // With the error quadrics, an edge's key reads only its ends' quadrics, positions, data and
+    // kinds (and, for the volume-preserving point, their stars). A collapse changes these for the
+    // new vertex, changed[0], and at most the kinds of the others: their edges keep their keys
+    // unless their kind changed. A kind can change only at the apexes (they lost a neighbour and
+    // may have merged line flags), changed[1..kept_from), and at ring vertices on a line; a Free
+    // vertex from kept_from on keeps its kind and valence (and weight_ is not used).
+    const bool collapse_quadrics = quadric_terms_ && options_.strategy == Strategy::EdgeCollapse;
+    const bool star_keys = options_.placement == Placement::VolumePreserving;
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
-        const float before = weight_[v];
-        const VertexKind kind = mesh_.kind[v];
-        refresh_vertex(v);
-        lighter_[v] = weight_[v] < before;
-        // With the error quadrics an edge's key reads its ends' kinds (a pinned end keeps its
-        // place) and, for the volume-preserving point, their stars: then it may get lighter.
-        if (quadric_terms_)
-            lighter_[v] =
-                mesh_.kind[v] != kind || options_.placement == Placement::VolumePreserving;
         epoch_[v] = epoch;
+        busy_[v] = pass_;
+        const VertexKind kind = mesh_.kind[v];
+        if (!collapse_quadrics || i < kept_from || kind != VertexKind::Free) refresh_vertex(v);
+        if (!collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys) rekey_[v] = pass_;
     }
-    ++stamp_now_;
-    auto refresh = [&](uint32_t h) {
+    if (options_.strategy != Strategy::EdgeCollapse) return;
+    const uint32_t n = changed[0];
+    mesh_.for_each_edge(n, [&](uint32_t h, uint32_t, bool) {
         const uint32_t t = mesh_.twin[h];
         const uint32_t id = t != kNone && t < h ? t : h;
-        if (stamp_[id] == stamp_now_) return;
-        stamp_[id] = stamp_now_;
-        refresh_edge(id);
-    };
-    // changed[0] is the new vertex: every edge at it is new. The others kept their places, so
-    // an edge between two of them, or to an unchanged vertex, has its old length, and its key
-    // went up unless one end got lighter: a queued key then stays as it is (see refresh_edge),
-    // and the heap need not be read.
-    auto heavier = [&](uint32_t v, uint32_t h, uint32_t other) {
-        if (lighter_[v] || (epoch_[other] == epoch && lighter_[other])) return false;
-        const uint32_t t = mesh_.twin[h];
-        const uint32_t id = t != kNone && t < h ? t : h;
-        if (stamp_[id] == stamp_now_ || !heap_.contains(id)) return false;
-        stamp_[id] = stamp_now_;
-        return true;
-    };
-    for (size_t i = 0; i < count; ++i) {
-        const uint32_t v = changed[i];
-        if (mesh_.kind[v] == VertexKind::Dead || mesh_.out[v] == kNone) continue;
-        mesh_.for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
-            if (i == 0 || !heavier(v, h, other)) refresh(h);
-            // The far edge of this triangle, if refused, may be possible again.
-            if (outgoing && fail_[detail::next(h)] != 0) refresh(detail::next(h));
-        });
+        if (!listed_[id]) listed_[id] = 1, born_.push_back(id);
+    });
+}
+
+void Simplifier::rank_candidates(size_t& share) {
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    // The pool without what died, merged with what was born, in id order; every candidate with
+    // its key, in the same order. A key is computed again only if an end's star changed since
+    // (nothing else it reads can change), so a pass costs a sweep, not a key per candidate.
+    if (!born_.empty()) {
+        std::sort(born_.begin(), born_.end());
+        const size_t old = pool_.size();
+        for (uint32_t id : born_) pool_.push_back({id, kNever, {}});
+        std::inplace_merge(pool_.begin(), pool_.begin() + std::ptrdiff_t(old), pool_.end(),
+                           [](const Member& a, const Member& b) { return a.id < b.id; });
+        born_.clear();
     }
+    scratch_.clear();
+    size_t kept = 0;
+    for (const Member& member : pool_) {
+        const uint32_t id = member.id;
+        const uint32_t a = collapse ? mesh_.origin[id] : id;
+        const bool live = collapse ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
+                                   : mesh_.kind[id] != VertexKind::Dead;
+        if (!live) {
+            listed_[id] = 0;
+            continue;
+        }
+        Member& m = pool_[kept++];
+        m = member;
+        if (collapse ? !collapsible(id) : !removable(id)) continue;
+        const uint32_t changed =
+            std::max(rekey_[a], collapse ? rekey_[mesh_.dest(id)] : uint32_t(0));
+        if (m.keyed == kNever || changed > m.keyed)
+            m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
+        if (!std::isinf(m.key.weight)) scratch_.push_back(detail::Candidate::make(m.key, id));
+    }
+    pool_.resize(kept);
+    share = scratch_.empty()
+                ? 0
+                : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(scratch_.size()))));
+    detail::lightest_sorted(scratch_, share, order_);
 }
 
 bool Simplifier::report_progress(size_t live, size_t target) {
@@ -276,33 +284,34 @@ ProgressiveRecord Simplifier::run() {
     const size_t target = options_.target_triangles > 0
                               ? options_.target_triangles
                               : size_t(std::floor(options_.keep_fraction * double(in) + 1e-9));
-    for (;;) {
-        if (mesh_.live_triangles <= target) {
-            record_.stop_ = StopReason::TargetReached;
-            break;
-        }
-        if (heap_.empty()) {
-            record_.stop_ = StopReason::NothingRemovable;
-            break;
-        }
-        const uint32_t top = heap_.top();
-        if (heap_.top_key().weight > options_.max_weight) {
-            record_.stop_ = StopReason::WeightBound;
-            break;
-        }
-        const size_t before = operations_;
-        if (options_.strategy == Strategy::EdgeCollapse)
-            step_collapse(top);
-        else
-            step_removal(rank_[top]);
-        if (operations_ != before) {
-            record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
-            if (!report_progress(mesh_.live_triangles, target)) {
-                record_.stop_ = StopReason::Cancelled;
-                break;
+    // Pass after pass: rank every candidate by its key on the current surface, then go through
+    // the lightest share of them in that order. A candidate next to an operation of this pass
+    // waits for the next pass, where it is ranked again with its new key. Nothing here depends on
+    // the target, so a run to any target performs a prefix of the same operations.
+    const auto run_passes = [&]() {
+        for (;;) {
+            if (mesh_.live_triangles <= target) return StopReason::TargetReached;
+            size_t share = 0;
+            rank_candidates(share);
+            if (share == 0) return StopReason::NothingRemovable;
+            if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
+            ++pass_;
+            for (size_t i = 0; i < share; ++i) {
+                const detail::Candidate c = order_[i];
+                if (c.weight() > options_.max_weight) break;
+                const size_t before = operations_;
+                if (options_.strategy == Strategy::EdgeCollapse)
+                    step_collapse(c.id);
+                else
+                    step_removal(c.id);
+                if (operations_ == before) continue;
+                record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
+                if (!report_progress(mesh_.live_triangles, target)) return StopReason::Cancelled;
+                if (mesh_.live_triangles <= target) return StopReason::TargetReached;
             }
         }
-    }
+    };
+    record_.stop_ = run_passes();
     if (options_.progress && record_.stop_ != StopReason::Cancelled) options_.progress(1.0);
 
     // Hand the vertices (the input's, then those the collapses made) to the record.

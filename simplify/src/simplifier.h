@@ -1,11 +1,13 @@
-// One simplification run: the weights, the mutable heap, the two strategies and the record they
-// write. Pipeline: build the half-edge mesh -> classify vertices -> weigh -> take the lightest
-// element from the heap, check it, apply it, update its neighbourhood -> repeat until the target.
+// One simplification run: the weights, the passes, the two strategies and the record they write.
+// Pipeline: build the half-edge mesh -> classify vertices -> weigh -> per pass: rank the
+// candidates, take the lightest part of them in order, check and apply each one whose
+// neighbourhood no earlier operation of the pass changed, update its neighbourhood -> repeat
+// until the target.
 #pragma once
 
 #include "ddsimp/ddsimp.h"
 #include "error_quadric.h"
-#include "indexed_heap.h"
+#include "pass_order.h"
 #include "weights.h"
 #include "working_mesh.h"
 
@@ -49,16 +51,22 @@ private:
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
     };
 
-    // simplifier.cpp: weights, keys, the main loop.
-    // Re-classifies v and recomputes its weight.
+    // The share of a pass's candidates, lightest first, that the pass goes through.
+    static constexpr double kPassShare = 0.25;
+
+    // simplifier.cpp: weights, passes, the main loop.
+    // Re-classifies v and recomputes its weight (and, for vertex removal, its key's tie-break).
     void refresh_vertex(uint32_t v);
-    void refresh_key(uint32_t v); // vertex removal: the heap holds vertices
     // Terms::ErrorQuadrics, vertex removal: v's error at the centre of its ring (its neighbours
     // in fan order; on a boundary, of the two boundary neighbours that the removal joins), with
     // their mean data: where a flat re-triangulation passes (infinite for a ring too large).
     double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
-
-    void refresh_around(const uint32_t* changed, size_t count);
+    // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
+    // ends and line flags (all but the apexes); vertex removal passes count.
+    void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
+    // The next pass: the number of candidates it goes through into `share`, and at least that
+    // many of the lightest candidates, sorted lightest first, into order_.
+    void rank_candidates(size_t& share);
     bool report_progress(size_t live, size_t target);
 
     // edge_collapse.cpp
@@ -66,9 +74,8 @@ private:
     // kinds_allow_collapse, and not known to fail: plan_collapse refused it and nothing it reads
     // has changed since.
     bool collapsible(uint32_t h) const;
-    detail::HeapKey collapse_key(uint32_t h) const;
+    detail::Key collapse_key(uint32_t h) const;
     void update_length(uint32_t h); // after a corner of h's triangle moved
-    void refresh_edge(uint32_t h);
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
@@ -77,7 +84,11 @@ private:
     void step_collapse(uint32_t h);
 
     // vertex_removal.cpp
-    detail::HeapKey removal_key(uint32_t v) const;
+    bool removable(uint32_t v) const;
+    detail::Key removal_key(uint32_t v) const;
+    // A vertex's key from the mesh, before the first pass (refresh_vertex keeps it afterwards):
+    // shortest_[v] and, with the error quadrics, weight_[v].
+    void key_removal(uint32_t v);
     bool plan_removal(uint32_t v, RemovalPlan& plan) const;
     bool triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
@@ -96,21 +107,43 @@ private:
     Options options_;
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
-    std::vector<float> weight_; // Terms::AngleDeficitGradient
+    // Per vertex: the paper's weight (Terms::AngleDeficitGradient); with the error quadrics,
+    // vertex removal's key: its error at the centre of its ring, an estimate that step_removal
+    // replaces by its planned re-triangulation's error when that is heavier (until v's star
+    // changes); unused by edge collapse with the error quadrics.
+    std::vector<float> weight_;
     // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
     detail::ErrorQuadrics quadrics_;
     bool quadric_terms_ = false, least_error_ = false;
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
-    detail::IndexedHeap heap_;
-    std::vector<uint32_t> stamp_; // per heap id: last refresh_around that refreshed it
-    uint32_t stamp_now_ = 0;
     size_t operations_ = 0;
-    // Edge collapse remembers refusals: fail_[h] is 1 + the operation count when plan_collapse
-    // refused h; epoch_[v] is 1 + the operation count when v's star last changed. A refusal
-    // stands while no end or apex of the edge has changed since (the checks read nothing else).
+    // The pool of candidates, in id order: every live edge (under its lower half-edge id) for
+    // edge collapse, every live vertex for vertex removal; listed_[id] says whether id is in it,
+    // born_ holds the edges a collapse made since the last pass (merged edges get new ids).
+    // Each pool member keeps its key and the pass after which it was computed (kNever: not yet).
+    static constexpr uint32_t kNever = 0xffffffffu;
+    struct Member {
+        uint32_t id, keyed;
+        detail::Key key;
+    };
+    std::vector<Member> pool_;
+    std::vector<uint32_t> born_;
+    std::vector<uint8_t> listed_;
+    std::vector<detail::Candidate> order_, scratch_; // the pass's lightest, sorted; all of them
+    // busy_[v] == pass_: an operation of this pass changed v's star, so the pass leaves v alone
+    // (and every weight an operation reads is the one of the current surface).
+    std::vector<uint32_t> busy_;
+    // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
+    // changed; a pool member's key is computed again when an end's rekey_ is newer than it.
+    std::vector<uint32_t> rekey_;
+    uint32_t pass_ = 0;
+    // Refusals are remembered: fail_[id] is 1 + the operation count when the plan refused the
+    // edge (per half-edge) or vertex; epoch_[v] is 1 + the operation count when v's star last
+    // changed. A refusal stands while no vertex the checks read has changed since: the ends and
+    // apexes of an edge, the vertex itself for a removal.
     std::vector<uint32_t> fail_, epoch_;
-    // Edge collapse: lighter_[v] says whether v's last refresh lowered its weight.
-    std::vector<uint8_t> lighter_;
+    // Vertex removal: the length of each vertex's shortest edge (its key's tie-break).
+    std::vector<float> shortest_;
     // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
     // (kNone: another check refused it); plan_collapse tests it first.
     std::vector<uint32_t> fail_at_;
@@ -130,10 +163,6 @@ private:
     // Vertex removal's scratch: a vertex's position in the ring being planned, or kNotInRing.
     static constexpr uint8_t kNotInRing = 0xff;
     mutable std::vector<uint8_t> ring_at_;
-    // Vertex removal with the error quadrics: a vertex's key is its error at the centre of its
-    // ring, an estimate; when it comes to the top, its planned re-triangulation's error replaces
-    // it if that is heavier, and exact_[v] says so until v's neighbourhood changes.
-    std::vector<uint8_t> exact_;
     ProgressiveRecord record_;
 };
 

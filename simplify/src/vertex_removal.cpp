@@ -31,22 +31,32 @@ double shape(const double* p, const double* q, const double* r) {
 
 } // namespace
 
-HeapKey Simplifier::removal_key(uint32_t v) const {
+// Free or on a line, and not refused since its star last changed.
+bool Simplifier::removable(uint32_t v) const {
     const VertexKind k = mesh_.kind[v];
-    if (k != VertexKind::Free && k != VertexKind::Line) return {};
+    if (k != VertexKind::Free && k != VertexKind::Line) return false;
+    return fail_[v] == 0 || epoch_[v] > fail_[v];
+}
+
+// The key: its weight, ties broken by its shortest edge (kept up to date by refresh_vertex).
+Key Simplifier::removal_key(uint32_t v) const {
+    return {weight_[v], shortest_[v]};
+}
+
+void Simplifier::key_removal(uint32_t v) {
     double shortest = INFINITY;
     const Vec3 p = mesh_.point(v);
-    mesh_.for_each_outgoing(v, [&](uint32_t h) {
-        shortest = std::min(shortest, norm(sub(mesh_.point(mesh_.dest(h)), p)));
-    });
-    if (!quadric_terms_) return {weight_[v], float(shortest)};
     uint32_t ring[kMaxValence];
     size_t count = 0;
-    mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
+    mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool outgoing) {
+        if (outgoing) shortest = std::min(shortest, norm(sub(mesh_.point(u), p)));
         if (count < kMaxValence) ring[count] = u;
         ++count;
     });
-    return {float(removal_error(v, ring, count)), float(shortest)};
+    shortest_[v] = float(shortest);
+    const VertexKind k = mesh_.kind[v];
+    if (quadric_terms_ && (k == VertexKind::Free || k == VertexKind::Line))
+        weight_[v] = float(removal_error(v, ring, count));
 }
 
 double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count) const {
@@ -66,7 +76,10 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
     double extent = 0;
     for (size_t i = 0; i < plan.ring_size; ++i)
         extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
-    const double eps = 1e-12 * extent * extent;
+    // Twice the area below which an ear counts as flat, relative to the ring's size: points
+    // collinear on paper, such as three grid points on a diagonal, are off their line by float
+    // rounding (about 1e-8 of the size there).
+    const double eps = 1e-7 * extent * extent;
     // Ears found good, by their middle vertex, with their shape. An ear stays good while its
     // two neighbours stay: clipping only removes points that could lie inside it. A bad one is
     // tested again (a clipped point may have been what spoilt it).
@@ -448,19 +461,21 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     // goes to them, shared equally.
     if (quadric_terms_)
         for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
-    refresh_around(plan.ring, n);
+    refresh_around(plan.ring, n, n);
 }
 
 void Simplifier::step_removal(uint32_t v) {
-    const HeapKey key = heap_.top_key();
-    heap_.erase(id_[v]);
+    if (busy_[v] == pass_ || !removable(v)) return; // the next pass ranks it again
     RemovalPlan plan;
-    // Otherwise v stays out until a change in its neighbourhood puts it back.
-    if (!plan_removal(v, plan)) return;
-    // The key was an estimate (see exact_): a heavier re-triangulation waits its turn.
-    if (quadric_terms_ && !exact_[v] && float(plan.error) > key.weight) {
-        exact_[v] = 1;
-        heap_.set(id_[v], HeapKey{float(plan.error), key.tie});
+    if (!plan_removal(v, plan)) {
+        fail_[v] = uint32_t(operations_ + 1); // no candidate until its star changes
+        return;
+    }
+    // Its key was an estimate (see weight_): a heavier re-triangulation becomes its key, and
+    // the next pass ranks it with that.
+    if (quadric_terms_ && float(plan.error) > weight_[v]) {
+        weight_[v] = float(plan.error);
+        rekey_[v] = pass_;
         return;
     }
     apply_removal(plan);

@@ -79,10 +79,13 @@ struct WorkingMesh {
     std::vector<uint32_t> origin; // kNone for a retired slot
     std::vector<uint32_t> twin;
     std::vector<uint8_t> line; // boundary or feature edge
-    std::vector<float> angle;  // the triangle's angle at the half-edge's origin
+    std::vector<float> angle;  // the triangle's angle at the half-edge's origin (see track_angles)
 
     size_t live_triangles = 0;
     Limits limits;
+    // Set before build: keep the corner angles (angle, update_angles, classify's sum). Only the
+    // angle deficit reads them; without them `angle` stays empty and classify returns 0.
+    bool track_angles = true;
 
     // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
     // `capacity` is the number of vertex slots to reserve.
@@ -174,7 +177,7 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     double angles = 0;
     for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
         visit(other, !outgoing);
-        if (outgoing) angles += angle[h];
+        if (outgoing && track_angles) angles += angle[h];
         if (!outgoing || line[h]) { // the edge closing a boundary fan is a boundary edge
             if (lines < 2) ends[lines] = other;
             ++lines;

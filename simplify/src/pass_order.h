@@ -1,0 +1,100 @@
+// The order of one pass: every candidate (an edge or a vertex) with its key, sorted lightest
+// first by a stable radix sort, so that equal keys keep the candidates' id order and the order is
+// total and deterministic. A pass takes the lightest part of this order (see Simplifier::run).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+namespace ddsimp::detail {
+
+// Weight first, then a geometric tie-break (shorter first), then the candidate's id.
+struct Key {
+    float weight = std::numeric_limits<float>::infinity();
+    float tie = 0;
+};
+
+// A candidate with its key packed into 48 bits that order as (weight, tie): each float mapped to
+// an unsigned integer in the same order (-0 first made +0, as the float comparison equates
+// them), the weight's 32 bits above the tie's top 16 (its sign, exponent and 7 bits of mantissa:
+// ties closer than about 1% count as equal and go by id).
+struct Candidate {
+    uint64_t order;
+    uint32_t id;
+
+    static uint32_t bits(float f) {
+        f += 0.0f; // -0 -> +0
+        uint32_t u;
+        std::memcpy(&u, &f, sizeof u);
+        return u & 0x80000000u ? ~u : u | 0x80000000u;
+    }
+    static Candidate make(const Key& k, uint32_t id) {
+        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id};
+    }
+    float weight() const {
+        uint32_t u = uint32_t(order >> 16);
+        u = u & 0x80000000u ? u & 0x7fffffffu : ~u;
+        float f;
+        std::memcpy(&f, &u, sizeof f);
+        return f;
+    }
+};
+
+inline constexpr int kKeyDigits = 4, kDigitBits = 12; // 48 bits of key
+inline constexpr size_t kDigitValues = size_t(1) << kDigitBits;
+inline uint32_t digit(const Candidate& c, int d) {
+    return uint32_t(c.order >> (kDigitBits * d)) & (kDigitValues - 1);
+}
+
+// Sorts `items`, which come in id order, by key, then by id: stable counting passes over the
+// key's 12-bit digits, lowest first (a digit on which all items agree is skipped); a comparison
+// sort for a few items. `scratch` is reused between calls.
+inline void sort_candidates(std::vector<Candidate>& items, std::vector<Candidate>& scratch) {
+    const size_t n = items.size();
+    if (n < kDigitValues) {
+        std::sort(items.begin(), items.end(), [](const Candidate& a, const Candidate& b) {
+            return a.order != b.order ? a.order < b.order : a.id < b.id;
+        });
+        return;
+    }
+    scratch.resize(n);
+    std::vector<uint32_t> count(kKeyDigits * kDigitValues, 0);
+    for (const Candidate& c : items)
+        for (int d = 0; d < kKeyDigits; ++d) ++count[d * kDigitValues + digit(c, d)];
+    for (int d = 0; d < kKeyDigits; ++d) {
+        uint32_t* bucket = &count[d * kDigitValues];
+        if (bucket[digit(items[0], d)] == n) continue; // one value: no change
+        uint32_t sum = 0;
+        for (size_t b = 0; b < kDigitValues; ++b) {
+            const uint32_t c = bucket[b];
+            bucket[b] = sum;
+            sum += c;
+        }
+        for (const Candidate& c : items) scratch[bucket[digit(c, d)]++] = c;
+        items.swap(scratch);
+    }
+}
+
+// The `count` lightest of `items` (in id order), sorted, into `out`, perhaps followed by more:
+// all items whose top key digit is at most that of the count-th lightest, sorted. The same first
+// `count` as sorting all of them, for less work. `items` is left in an unspecified state.
+inline void lightest_sorted(std::vector<Candidate>& items, size_t count,
+                            std::vector<Candidate>& out) {
+    out.clear();
+    if (count < items.size() && items.size() >= kDigitValues) {
+        std::vector<uint32_t> histogram(kDigitValues, 0);
+        for (const Candidate& c : items) ++histogram[digit(c, kKeyDigits - 1)];
+        uint32_t last = 0;
+        for (size_t sum = 0; sum + histogram[last] < count;) sum += histogram[last++];
+        for (const Candidate& c : items)
+            if (digit(c, kKeyDigits - 1) <= last) out.push_back(c);
+    } else {
+        out.swap(items);
+    }
+    sort_candidates(out, items);
+}
+
+} // namespace ddsimp::detail
