@@ -232,8 +232,9 @@ struct Client::Impl {
         if (plain) plain->close(ignored);
         if (resolver) resolver->cancel();
         if (connect_timer) connect_timer->cancel();
-        plain.reset();
-        tls.reset();
+        // The closed stream's aborted operations are already queued and still use it (an SSL
+        // read reaches into its buffers): it is destroyed by a handler queued after them.
+        if (was_open) asio::post(io, [p = std::move(plain), t = std::move(tls)] {});
         ++generation;
         if (was_open && had_sessions)
             deliver({SessionEvent::Kind::Error, {}, {}, error.what(), error.code()});
