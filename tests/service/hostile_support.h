@@ -167,4 +167,30 @@ constexpr size_t kAllocatorSlack = 24 * kMiB;
 // its transport and connection objects and timers — a few hundred bytes; allowed generously.
 constexpr size_t kConnectionOverhead = 64u << 10;
 
+// The memory bounds are the release build's. A sanitizer adds memory of its own that the
+// resident set counts: ThreadSanitizer's shadow, 4 bytes per byte of application memory plus
+// its meta map; AddressSanitizer's shadow, 1/8 of it, and the quarantine that holds freed blocks
+// (256 MiB by default). Under a sanitizer an allowance grows by that much, so the run still
+// catches memory that grows without bound.
+#if defined(__SANITIZE_THREAD__)
+#define DDSIMP_TEST_TSAN 1
+#elif defined(__SANITIZE_ADDRESS__)
+#define DDSIMP_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define DDSIMP_TEST_TSAN 1
+#elif __has_feature(address_sanitizer)
+#define DDSIMP_TEST_ASAN 1
+#endif
+#endif
+constexpr size_t with_sanitizer_memory(size_t allowance) {
+#if defined(DDSIMP_TEST_TSAN)
+    return 5 * allowance;
+#elif defined(DDSIMP_TEST_ASAN)
+    return allowance + allowance / 8 + 256 * kMiB;
+#else
+    return allowance;
+#endif
+}
+
 } // namespace ddsimp::test
