@@ -8,14 +8,18 @@
 #include <cctype>
 #include <charconv>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include <vtkAbstractArray.h>
-#include <vtkPolyDataReader.h>
+#include <vtkCellArray.h>
+#include <vtkDataArray.h>
+#include <vtkDataReader.h>
 #include <vtkSmartPointer.h>
 
 namespace ddsimp::io {
@@ -59,8 +63,10 @@ private:
     bool binary_;
 };
 
-// Walks the `size` integers of an array of `cells` cells; "" if they hold them exactly.
-std::string walk_cells(IntReader& ints, const std::string& keyword, int64_t cells, int64_t size) {
+// Walks the `size` integers of an array of `cells` cells, taken one at a time from `ints` (an
+// IntReader or anything with next()); "" if they hold them exactly.
+template <class Ints>
+std::string walk_cells(Ints& ints, const std::string& keyword, int64_t cells, int64_t size) {
     const std::string what = keyword + " " + std::to_string(cells) + " " + std::to_string(size);
     int64_t at = 0;
     for (int64_t c = 0; c < cells; ++c) {
@@ -80,55 +86,34 @@ std::string walk_cells(IntReader& ints, const std::string& keyword, int64_t cell
     return "";
 }
 
-// Reads a data set's FIELD section from `offset` (just after the word FIELD) the way VTK 9.1's
+// Reads a FIELD section (just after the word FIELD) the way VTK 9.1's
 // vtkDataReader::ReadFieldData does, with VTK's own ReadString, Read and ReadArray, but checks
 // the counts before VTK allocates for them (an array count or array size the file cannot hold
 // is gigabytes; a negative one a std::length_error thrown through VTK, which leaks what it had
 // built). "" if VTK reads every array, else what is wrong.
-std::string check_field_data(const std::string& path, std::streamoff offset, int64_t limit) {
-    VtkMessageCapture messages;
-    auto reader = vtkSmartPointer<vtkPolyDataReader>::New();
-    if (!reader->OpenVTKFile(path.c_str()) || !reader->ReadHeader(path.c_str())) {
-        reader->CloseVTKFile();
-        return ""; // VTK reports a bad header itself
-    }
-    reader->GetIStream()->seekg(offset);
-    const auto problem = [&](const std::string& what) {
-        reader->CloseVTKFile();
-        return what;
-    };
+std::string field_data_problem(vtkDataReader& reader, VtkMessageCapture& messages, int64_t limit) {
     char name[1024];
     int arrays = 0;
-    if (!reader->ReadString(name) || !reader->Read(&arrays))
-        return problem("no name and number of arrays");
+    if (!reader.ReadString(name) || !reader.Read(&arrays)) return "no name and number of arrays";
     if (arrays < 0 || arrays > limit)
-        return problem(std::to_string(arrays) + " arrays, more than the file holds");
+        return std::to_string(arrays) + " arrays, more than the file holds";
     for (int i = 0; i < arrays; ++i) {
         const std::string array = "array " + std::to_string(i);
         char type[1024];
         vtkIdType components = 0, tuples = 0;
-        if (!reader->ReadString(name)) return problem("the file ends before " + array);
+        if (!reader.ReadString(name)) return "the file ends before " + array;
         if (std::string(name) == "NULL_ARRAY") continue;
-        if (!reader->Read(&components) || !reader->Read(&tuples) || !reader->ReadString(type))
-            return problem(array + " has no component count, tuple count and type");
+        if (!reader.Read(&components) || !reader.Read(&tuples) || !reader.ReadString(type))
+            return array + " has no component count, tuple count and type";
         if (components < 0 || tuples < 0 || (components > 0 && tuples > limit / components))
-            return problem(array + " declares " + std::to_string(components) + " components of " +
-                           std::to_string(tuples) + " tuples, more than the file holds");
-        vtkAbstractArray* data = reader->ReadArray(type, tuples, components);
+            return array + " declares " + std::to_string(components) + " components of " +
+                   std::to_string(tuples) + " tuples, more than the file holds";
+        messages.clear();
+        vtkAbstractArray* data = reader.ReadArray(type, tuples, components);
         if (data == nullptr)
-            return problem(messages.has_error() ? messages.first_error()
-                                                : array + ": VTK cannot read it");
+            return messages.has_error() ? messages.first_error() : array + ": VTK cannot read it";
         data->Delete();
     }
-    // VTK goes on with the word after the section and takes "cells0" for CELLS (it compares
-    // prefixes); a section misread above ends elsewhere than before a keyword. (After a CELLS
-    // section, VTK's error returns leak its cell array.)
-    static const std::set<std::string> keywords{
-        "points",   "cells",           "cell_types", "vertices",  "lines",
-        "polygons", "triangle_strips", "point_data", "cell_data", "field"};
-    if (reader->ReadString(name) && !keywords.count(lower(name)))
-        return problem("it is followed by " + io::quoted(name) + ", not a section");
-    reader->CloseVTKFile();
     return "";
 }
 
@@ -205,6 +190,329 @@ std::string check_declared_size(const std::vector<std::string>& words, int64_t l
     return "";
 }
 
+// The line (from 1) that holds the byte at `offset` of the file: the newlines before it, counted
+// when a message needs them.
+size_t line_of(const std::string& path, std::streamoff offset) {
+    std::ifstream in(path, std::ios::binary);
+    std::array<char, 65536> buffer;
+    size_t line = 1;
+    while (offset > 0 && (in.read(buffer.data(), std::streamsize(std::min<std::streamoff>(
+                                                     offset, std::streamoff(buffer.size())))) ||
+                          in.gcount() > 0)) {
+        line += size_t(std::count(buffer.data(), buffer.data() + in.gcount(), '\n'));
+        offset -= in.gcount();
+    }
+    return line;
+}
+
+// The first line "# vtk DataFile Version x.y" gives VTK's reader its major version (0 if it
+// cannot read "x.y"); from 5 on, cells are offsets and connectivity.
+int vtk_major_version(const std::string& first_line) {
+    const std::string prefix = "# vtk DataFile Version";
+    int major = 0, minor = 0;
+    if (first_line.compare(0, prefix.size(), prefix) != 0 ||
+        std::sscanf(first_line.c_str() + prefix.size(), "%d.%d", &major, &minor) != 2)
+        return 0;
+    return major;
+}
+
+bool starts_with(const std::string& word, const char* prefix) {
+    return word.rfind(prefix, 0) == 0;
+}
+
+// The integers of a cell array VTK has read, one at a time, for walk_cells.
+struct VectorInts {
+    const std::vector<int>& values;
+    size_t at = 0;
+    std::optional<int64_t> next() {
+        if (at == values.size()) return std::nullopt;
+        return values[at++];
+    }
+};
+
+// Walks the data set of a POLYDATA or UNSTRUCTURED_GRID file the way VTK 9.1's
+// vtkPolyDataReader::ReadMeshSimple and vtkUnstructuredGridReader::ReadMeshSimple do, section
+// by section, with VTK's own ReadString, Read, ReadArray and ReadCellsLegacy on VTK's own stream
+// (so every word is the word VTK meets), up to POINT_DATA, CELL_DATA or the end. Those readers
+// return on each error they find without freeing what they have read (the grid reader's cell
+// types and cells; the poly data reader goes on reading a closed stream after a cell array it
+// cannot read), so every such error is found here first. Besides, the walk refuses what VTK does
+// not check and would read past: CELL_TYPES with fewer types than the cells of CELLS, format 5
+// offsets that leave their connectivity, a second CELLS or CELL_TYPES in a grid (the first
+// leaks). Every array is read once more than VTK reads it.
+class DataSetWalk {
+public:
+    DataSetWalk(const std::string& path, int64_t most_values)
+        : path_(path), limit_(most_values), reader_(vtkSmartPointer<vtkDataReader>::New()) {}
+    ~DataSetWalk() { reader_->CloseVTKFile(); }
+    DataSetWalk(const DataSetWalk&) = delete;
+    DataSetWalk& operator=(const DataSetWalk&) = delete;
+
+    // "" if VTK reads the data set without an error, else what is wrong.
+    std::string problem() {
+        if (!reader_->OpenVTKFile(path_.c_str()) || !reader_->ReadHeader(path_.c_str()))
+            return ""; // VTK reports a bad header itself
+        // vtkDataSetReader reads nothing but "DATASET type" here (else VTK's message has an
+        // address in it).
+        char word[256];
+        if (!reader_->ReadString(word)) return "the file ends after its header";
+        if (!starts_with(lower(word), "dataset"))
+            return at(here()) + io::quoted(word) + " where DATASET should be";
+        if (!reader_->ReadString(word)) return "the file ends after DATASET";
+        const std::string type = lower(word);
+        // As vtkDataSetReader picks its reader; the others read volumes, not surfaces.
+        if (starts_with(type, "structured_points")) return not_a_surface("vtkStructuredPoints");
+        if (starts_with(type, "structured_grid")) return not_a_surface("vtkStructuredGrid");
+        if (starts_with(type, "rectilinear_grid")) return not_a_surface("vtkRectilinearGrid");
+        grid_ = starts_with(type, "unstructured_grid");
+        if (!grid_ && !starts_with(type, "polydata"))
+            return at(here()) + io::quoted(word) +
+                   " is not a data set type (POLYDATA, UNSTRUCTURED_GRID, STRUCTURED_POINTS, "
+                   "STRUCTURED_GRID, RECTILINEAR_GRID)";
+        return sections();
+    }
+
+private:
+    static std::string not_a_surface(const std::string& type) {
+        return "it holds a " + type +
+               ", not a triangle surface (for a volume, use `ddsimp isosurface`)";
+    }
+
+    // Where VTK's stream is: just after the word it read last (found without disturbing the
+    // stream's state).
+    std::streamoff here() const {
+        std::istream& in = *reader_->GetIStream();
+        const std::ios::iostate state = in.rdstate();
+        in.clear();
+        const std::streamoff at = in.tellg();
+        in.clear(state);
+        return std::max<std::streamoff>(at - 1, 0);
+    }
+
+    std::string sections() {
+        std::string previous;           // the section before
+        std::streamoff previous_at = 0; // and where
+        std::streamoff field_at = -1;   // a FIELD section just read
+        for (char raw[256]; reader_->ReadString(raw);) {
+            const std::string word = raw, keyword = lower(raw);
+            const std::streamoff word_at = here();
+            // VTK takes a misread "cells0" for CELLS, then leaks the cells on its error return:
+            // a FIELD section is followed by a whole keyword.
+            static const std::set<std::string> keywords{
+                "points",   "cells",           "cell_types", "vertices",  "lines",
+                "polygons", "triangle_strips", "point_data", "cell_data", "field"};
+            if (field_at >= 0 && !keywords.count(keyword))
+                return field_problem(field_at,
+                                     "it is followed by " + io::quoted(word) + ", not a section");
+            field_at = -1;
+            std::string problem;
+            if (starts_with(keyword, "field")) {
+                problem = field_data_problem(*reader_, messages_, limit_);
+                if (!problem.empty()) return field_problem(word_at, problem);
+                field_at = word_at;
+            } else if (starts_with(keyword, "points")) {
+                problem = points(word);
+            } else if (!grid_ &&
+                       (starts_with(keyword, "vertices") || starts_with(keyword, "lines") ||
+                        starts_with(keyword, "polygons") ||
+                        starts_with(keyword, "triangle_strips"))) {
+                vtkIdType cells = 0;
+                problem = cell_array(word, cells);
+                poly_cells_[vtk_section(keyword)] = cells; // a second one replaces the first
+            } else if (grid_ && starts_with(keyword, "cells")) {
+                if (grid_cells_) return at(word_at) + "a second " + word + " section";
+                vtkIdType cells = 0;
+                problem = cell_array(word, cells);
+                grid_cells_ = cells;
+                if (major_version() < 5) last_count_ = cells;
+                if (problem.empty()) problem = types_for_cells();
+            } else if (grid_ && starts_with(keyword, "cell_types")) {
+                problem = cell_types(word);
+                if (problem.empty()) problem = types_for_cells();
+            } else if (starts_with(keyword, "cell_data")) {
+                return data_count(word, grid_ ? last_count_ : poly_cell_count(), "cells");
+            } else if (starts_with(keyword, "point_data")) {
+                return data_count(word, points_, "points");
+            } else {
+                return at(word_at) + io::quoted(word) + " is not a section keyword" +
+                       (previous.empty() ? ""
+                                         : "; the section before it is " + previous + " (line " +
+                                               std::to_string(line_of(path_, previous_at)) + ")");
+            }
+            if (!problem.empty()) return at(word_at) + problem;
+            previous = word;
+            previous_at = word_at;
+        }
+        return "";
+    }
+
+    int major_version() const { return reader_->GetFileMajorVersion(); }
+
+    // "line n: ", n the line of `offset`.
+    std::string at(std::streamoff offset) const {
+        return "line " + std::to_string(line_of(path_, offset)) + ": ";
+    }
+
+    std::string field_problem(std::streamoff field_at, const std::string& problem) const {
+        return "the data set's FIELD section (line " + std::to_string(line_of(path_, field_at)) +
+               ") cannot be read: " + problem;
+    }
+
+    bool too_many(vtkIdType tuples, vtkIdType components) const {
+        return tuples < 0 || components < 0 || (components > 0 && tuples > limit_ / components);
+    }
+
+    // ReadArray of a `tuples` x `components` array whose type word comes next; `what` names it.
+    // The array, or null and `problem` says why. `numeric`: the reader needs a vtkDataArray
+    // (vtkDataReader::ReadPointCoordinates leaks a string array it cannot use).
+    vtkSmartPointer<vtkDataArray> read_array(const std::string& what, vtkIdType tuples,
+                                             vtkIdType components, std::string& problem) {
+        char type[256];
+        if (!reader_->ReadString(type)) {
+            problem = what + ": the file ends before its data type";
+            return nullptr;
+        }
+        messages_.clear();
+        auto array = vtk::TakeSmartPointer(reader_->ReadArray(type, tuples, components));
+        if (!array) {
+            problem = what + ": " +
+                      (messages_.has_error() ? messages_.first_error() : "VTK cannot read it");
+            return nullptr;
+        }
+        auto data = vtkSmartPointer<vtkDataArray>(vtkDataArray::SafeDownCast(array));
+        if (!data) problem = what + ": " + io::quoted(type) + " is not a numeric type";
+        return data;
+    }
+
+    std::string points(const std::string& word) {
+        if (!reader_->Read(&points_)) return word + " has no point count";
+        const std::string what = word + " " + std::to_string(points_);
+        if (too_many(points_, 3)) return what + ": more points than the file holds";
+        std::string problem;
+        read_array(what, points_, 3, problem);
+        return problem;
+    }
+
+    // VERTICES, LINES, POLYGONS, TRIANGLE_STRIPS or CELLS, in the layout of the file's version;
+    // `cells` is how many cells VTK makes of it.
+    std::string cell_array(const std::string& word, vtkIdType& cells) {
+        vtkIdType first = 0, second = 0;
+        if (!reader_->Read(&first) || !reader_->Read(&second))
+            return word + " has no cell count and size";
+        const std::string what = word + " " + std::to_string(first) + " " + std::to_string(second);
+        if (first < 0 || second < 0 || first > limit_ || second > limit_)
+            return what + ": more than the file holds";
+        if (major_version() < 5) {
+            // "WORD cells size", then size integers: a count and that many ids for each cell.
+            std::vector<int> values(static_cast<size_t>(second));
+            if (!reader_->ReadCellsLegacy(second, values.data()))
+                return what + ": the file ends, or has a word that is not an integer, in its " +
+                       std::to_string(second) + " numbers";
+            VectorInts ints{values};
+            cells = first;
+            return walk_cells(ints, word, first, second);
+        }
+        // "WORD offsets connectivity", then "OFFSETS type" and "CONNECTIVITY type" arrays.
+        if (first < 1) return ""; // VTK reads no arrays
+        cells = first - 1;
+        std::string problem;
+        char header[256];
+        if (!reader_->ReadString(header) || lower(header) != "offsets")
+            return what + ": no OFFSETS array";
+        auto offsets = read_array(what + " OFFSETS", first, 1, problem);
+        if (!offsets) return problem;
+        if (!reader_->ReadString(header) || lower(header) != "connectivity")
+            return what + ": no CONNECTIVITY array";
+        auto connectivity = read_array(what + " CONNECTIVITY", second, 1, problem);
+        if (!connectivity) return problem;
+        messages_.clear();
+        if (!vtkSmartPointer<vtkCellArray>::New()->SetData(offsets, connectivity))
+            return what + ": " +
+                   (messages_.has_error() ? messages_.first_error()
+                                          : "VTK takes no cells of these array types");
+        // VTK does not check the offsets, and a cell past the connectivity is read past it.
+        double before = 0;
+        for (vtkIdType i = 0; i < first; ++i) {
+            const double offset = offsets->GetComponent(i, 0);
+            if ((i == 0 && offset != 0) || offset < before || offset > double(second))
+                return what + ": offset " + std::to_string(i) + " is " + number(offset) +
+                       " (offsets go from 0 up to the " + std::to_string(second) +
+                       " ids of the connectivity)";
+            before = offset;
+        }
+        if (before != double(second))
+            return what + ": the offsets end at " + number(before) + ", not at the " +
+                   std::to_string(second) + " ids of the connectivity";
+        return "";
+    }
+
+    static std::string number(double value) {
+        std::ostringstream out;
+        out << value;
+        return out.str();
+    }
+
+    std::string cell_types(const std::string& word) {
+        vtkIdType count = 0;
+        if (!reader_->Read(&count)) return word + " has no count";
+        const std::string what = word + " " + std::to_string(count);
+        if (types_) return "a second " + word + " section";
+        if (count < 0 || count > limit_) return what + ": more types than the file holds";
+        std::istream& in = *reader_->GetIStream();
+        if (reader_->GetFileType() == VTK_BINARY) {
+            char rest[256];
+            in.getline(rest, 256); // as VTK reads them
+            std::vector<char> bytes(sizeof(int) * size_t(count));
+            in.read(bytes.data(), std::streamsize(bytes.size()));
+            if (in.eof()) return what + ": the file ends in its types";
+        } else {
+            for (vtkIdType i = 0; i < count; ++i) {
+                int type = 0;
+                if (!reader_->Read(&type))
+                    return what + ": type " + std::to_string(i) +
+                           " is not an integer, or the file ends before it";
+            }
+        }
+        types_ = count;
+        last_count_ = count;
+        return "";
+    }
+
+    // VTK's grid copies one type for each cell of CELLS, whatever CELL_TYPES holds.
+    std::string types_for_cells() const {
+        if (!types_ || !grid_cells_ || *types_ >= *grid_cells_) return "";
+        return "CELL_TYPES has " + std::to_string(*types_) + " types for the " +
+               std::to_string(*grid_cells_) + " cells of CELLS";
+    }
+
+    vtkIdType poly_cell_count() const {
+        vtkIdType total = 0;
+        for (const auto& [section, cells] : poly_cells_) total += cells;
+        return total;
+    }
+
+    // POINT_DATA or CELL_DATA and its count, which VTK compares with the data set's.
+    std::string data_count(const std::string& word, vtkIdType expected, const char* of) const {
+        const std::streamoff word_at = here();
+        vtkIdType count = 0;
+        if (!reader_->Read(&count)) return at(word_at) + word + " has no count";
+        if (count != expected)
+            return at(word_at) + word + " " + std::to_string(count) + " for a data set of " +
+                   std::to_string(expected) + " " + of;
+        return "";
+    }
+
+    std::string path_;
+    int64_t limit_;
+    vtkSmartPointer<vtkDataReader> reader_;
+    VtkMessageCapture messages_;
+    bool grid_ = false;
+    vtkIdType points_ = 0;
+    std::map<std::string, vtkIdType> poly_cells_;
+    std::optional<vtkIdType> grid_cells_, types_;
+    vtkIdType last_count_ = 0; // VTK's ncells: the last count of a legacy CELLS or of CELL_TYPES
+};
+
 } // namespace
 
 std::string check_legacy_vtk(const std::string& path) {
@@ -214,23 +522,16 @@ std::string check_legacy_vtk(const std::string& path) {
     std::string version, title, type;
     if (!std::getline(in, version) || !std::getline(in, title) || !std::getline(in, type))
         return "";
-    // Format 5 lists cells as offsets and connectivity, which VTK checks.
-    const bool legacy_cells = version.find("Version 5") == std::string::npos;
+    // From format 5 on, cells are offsets and connectivity (walked with the data set below).
+    const bool legacy_cells = vtk_major_version(version) < 5;
     const bool binary = lower(type).rfind("binary", 0) == 0;
     IntReader ints(in, binary);
     std::set<std::string> sections; // a data set has each at most once
-    struct Field {
-        std::streamoff offset;
-        size_t line;
-    };
-    std::vector<Field> fields; // of the data set (before its point and cell data)
-    bool in_attributes = false;
     in.seekg(0, std::ios::end);
     const int64_t most_values = 8 * int64_t(in.tellg());
     in.seekg(0);
     for (int i = 0; i < 3; ++i) std::getline(in, line);
     for (size_t number = 4;; ++number) {
-        const std::streamoff start = in.tellg();
         if (!std::getline(in, line)) break;
         std::vector<std::string> all_words;
         {
@@ -245,7 +546,6 @@ std::string check_legacy_vtk(const std::string& path) {
         int64_t cells = 0, size = 0;
         if (!(words >> keyword)) continue;
         const std::string section = vtk_section(keyword);
-        if (section == "point_data" || section == "cell_data") in_attributes = true;
         // VTK's polydata reader ignores a failure to read the points and takes the next word
         // for a keyword: "-4.2FieldData" in the coordinates became a FIELD section it could not
         // read, and a null Delete(). ASCII coordinates must all be numbers.
@@ -269,8 +569,6 @@ std::string check_legacy_vtk(const std::string& path) {
             }
             continue;
         }
-        if (section == "field" && !in_attributes)
-            fields.push_back({start + std::streamoff(words.tellg()), number});
         if (!legacy_cells) continue;
         if (is_counted_section(section) && (words >> cells) && !(words >> extra)) {
             // VTK 9.1 dereferences a null pointer at a second CELL_TYPES.
@@ -286,14 +584,10 @@ std::string check_legacy_vtk(const std::string& path) {
         if (std::string problem = walk_cells(ints, keyword, cells, size); !problem.empty())
             return problem;
     }
-    // VTK 9.1's data set readers call Delete() on what ReadFieldData returns without checking it
-    // for null, which it is when an array in the section cannot be read.
-    for (const Field& field : fields)
-        if (std::string problem = check_field_data(path, field.offset, most_values);
-            !problem.empty())
-            return "the data set's FIELD section (line " + std::to_string(field.line) +
-                   ") cannot be read: " + problem;
-    return "";
+    // Then the data set as VTK's reader walks it, which finds the rest: its FIELD sections (VTK
+    // 9.1's readers Delete() the null ReadFieldData returns for one they cannot read), and every
+    // error VTK would return on.
+    return DataSetWalk(path, most_values).problem();
 }
 
 } // namespace ddsimp::io

@@ -5,16 +5,21 @@
 
 namespace ddsimp::io {
 
-// Legacy files (before format 5.1) list cells as one array of counts and ids: "POLYGONS n size"
-// (or VERTICES, LINES, TRIANGLE_STRIPS, CELLS), then `size` integers, for each of the n cells its
-// point count and that many point ids. VTK 9.1 walks that array without checking the counts
-// against its length, so a wrong count reads past the end (a crash, not an error); a second
-// CELL_TYPES section crashes it too, and so does a data set's FIELD section (the one before
-// POINT_DATA and CELL_DATA) that VTK cannot read: its readers Delete() the null it gets back.
-// Returns "" if every cell array holds its cells, no section repeats and VTK's own parser reads
-// each such FIELD section, else what is wrong ("POLYGONS 4 16: cell 3 has -7 points", "the data
-// set's FIELD section (line 5) cannot be read: ..."). The line scan is linear in the file; each
-// FIELD section is parsed once more.
+// VTK 9.1's legacy readers trust their input: a cell array's counts are walked without checking
+// them against its length (a wrong count reads past the end), a second CELL_TYPES section and a
+// data set's FIELD section VTK cannot read are null dereferences, vtkUnstructuredGridReader
+// returns on each error it finds without freeing the cell types and cells it has read, and
+// vtkPolyDataReader reads on from a closed stream after a cell array it cannot read. So the file
+// is checked first, in two passes: a line scan (each cell array holds its cells, no section
+// repeats, ASCII point coordinates are numbers, no count declares more values than the file
+// holds), then a walk of the data set with VTK's own parser, section by section as VTK's
+// POLYDATA and UNSTRUCTURED_GRID readers take them, up to POINT_DATA, CELL_DATA or the end:
+// every error those readers would return on is refused here, and so is what they would read
+// past (fewer cell types than cells, format 5 offsets outside their connectivity). Volumes
+// (STRUCTURED_POINTS, STRUCTURED_GRID, RECTILINEAR_GRID) are refused as not surfaces.
+// Returns "" if VTK reads the data set, else what is wrong, with its line where there is one
+// ("line 103: '17' is not a section keyword; the section before it is CELL_TYPES (line 83)").
+// Linear in the file: the scan reads it once, the walk parses each array once more than VTK.
 std::string check_legacy_vtk(const std::string& path);
 
 } // namespace ddsimp::io
