@@ -167,8 +167,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     bool off_edge = false;
     if (quadric_terms_ || least_error_) {
         const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
-        error = quadrics_.along(a, pa, pb, fa, fb);
-        error += quadrics_.along(b, pa, pb, fa, fb);
+        error = quadrics_.along(a, b, pa, pb, fa, fb);
     }
     if (ka == VertexKind::Corner || (ka == VertexKind::Line && kb == VertexKind::Free))
         p = pa;
@@ -237,8 +236,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
                                            options_.placement == Placement::Midpoint);
         if (!on_edge) {
             const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
-            error = quadrics_.along(a, p, p, fa, fb);
-            error += quadrics_.along(b, p, p, fa, fb);
+            error = quadrics_.along(a, b, p, p, fa, fb);
         }
         plan.error = error.at(plan.along);
     }

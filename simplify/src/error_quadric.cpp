@@ -112,36 +112,46 @@ void ErrorQuadrics::add(uint32_t to, uint32_t from, double scale) {
     for (size_t i = 0; i < size; ++i) q[i] += scale * r[i];
 }
 
-SegmentError ErrorQuadrics::along(uint32_t v, const Vec3& xa, const Vec3& xb, const float* fa,
-                                  const float* fb) const {
-    const double* q = of(v);
+SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb,
+                                  const float* fa, const float* fb) const {
+    const double *qv = of(v), *qw = of(w);
     const Vec3 x = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
-    auto times_a = [&](const Vec3& y) {
-        return Vec3{q[0] * y[0] + q[1] * y[1] + q[2] * y[2],
-                    q[1] * y[0] + q[3] * y[1] + q[4] * y[2],
-                    q[2] * y[0] + q[4] * y[1] + q[5] * y[2]};
+    // Each quadric's terms are summed exactly as for one quadric on its own, then the two added:
+    // the same bits as two separate evaluations, without computing the shared terms twice.
+    auto geometry = [&](const double* q) {
+        auto times_a = [&](const Vec3& y) {
+            return Vec3{q[0] * y[0] + q[1] * y[1] + q[2] * y[2],
+                        q[1] * y[0] + q[3] * y[1] + q[4] * y[2],
+                        q[2] * y[0] + q[4] * y[1] + q[5] * y[2]};
+        };
+        const Vec3 ax = times_a(x), adx = times_a(dx);
+        const Vec3 b{q[6], q[7], q[8]};
+        SegmentError e;
+        e.e0 = dot(x, ax) + 2 * dot(b, x) + q[9];
+        e.h = dot(dx, ax) + dot(b, dx);
+        e.g = dot(dx, adx);
+        // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in
+        // ranges) weighted by A's trace and W: rounding leaves about 1e-12 of that.
+        e.noise = 1e-12 * (q[0] + q[3] + q[5] + q[10] + std::abs(q[9]));
+        return e;
     };
-    const Vec3 ax = times_a(x), adx = times_a(dx);
-    const Vec3 b{q[6], q[7], q[8]};
-    SegmentError e;
-    e.e0 = dot(x, ax) + 2 * dot(b, x) + q[9];
-    e.h = dot(dx, ax) + dot(b, dx);
-    e.g = dot(dx, adx);
-    const double w = q[10];
-    for (size_t j = 0; j < components; ++j) {
+    SegmentError ev = geometry(qv), ew = geometry(qw);
+    auto data = [&](const double* q, SegmentError& e, size_t j, double sa, double ds) {
         const double* gj = q + 11 + 4 * j;
         const Vec3 g{gj[0], gj[1], gj[2]};
-        const double sa = (double(fa[offset[j]]) - low[j]) * inv_range[j];
-        const double ds = (double(fb[offset[j]]) - double(fa[offset[j]])) * inv_range[j];
         const double gx = dot(g, x) + gj[3], gd = dot(g, dx);
-        e.e0 += w * sa * sa - 2 * sa * gx;
-        e.h += w * sa * ds - ds * gx - sa * gd;
-        e.g += w * ds * ds - 2 * ds * gd;
+        const double wt = q[10];
+        e.e0 += wt * sa * sa - 2 * sa * gx;
+        e.h += wt * sa * ds - ds * gx - sa * gd;
+        e.g += wt * ds * ds - 2 * ds * gd;
+    };
+    for (size_t j = 0; j < components; ++j) {
+        const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
+        const double sa = (a - low[j]) * inv_range[j], ds = (b - a) * inv_range[j];
+        data(qv, ev, j, sa, ds);
+        data(qw, ew, j, sa, ds);
     }
-    // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in ranges)
-    // weighted by A's trace and W: rounding leaves about 1e-12 of that.
-    e.noise = 1e-12 * (q[0] + q[3] + q[5] + w + std::abs(q[9]));
-    return e;
+    return ev += ew;
 }
 
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,

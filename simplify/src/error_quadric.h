@@ -61,9 +61,10 @@ struct ErrorQuadrics {
     // q(to) += scale * q(from).
     void add(uint32_t to, uint32_t from, double scale);
 
-    // The error of vertex v's quadric along the segment from position xa with data fa to xb with
-    // data fb (raw positions and data records of the working mesh).
-    SegmentError along(uint32_t v, const Vec3& xa, const Vec3& xb, const float* fa,
+    // The summed error of the quadrics of vertices v and w (an edge's two ends) along the segment
+    // from position xa with data fa to xb with data fb (raw positions and data records of the
+    // working mesh). One call for both: the segment's normalised terms are shared.
+    SegmentError along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb, const float* fa,
                        const float* fb) const;
     // The offset from position x, perpendicular to the unit vector `axis`, that lowers the summed
     // error of the quadrics of v and w most, their data held at the blend (1 - t) fa + t fb;
