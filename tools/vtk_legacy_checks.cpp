@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -329,10 +330,14 @@ private:
             } else if (grid_ && starts_with(keyword, "cell_types")) {
                 problem = cell_types(word);
                 if (problem.empty()) problem = types_for_cells();
-            } else if (starts_with(keyword, "cell_data")) {
-                return data_count(word, grid_ ? last_count_ : poly_cell_count(), "cells");
-            } else if (starts_with(keyword, "point_data")) {
-                return data_count(word, points_, "points");
+            } else if (starts_with(keyword, "cell_data") || starts_with(keyword, "point_data")) {
+                // VTK reads on with the attributes, to the end of the file.
+                const bool point_data = starts_with(keyword, "point_data");
+                vtkIdType count = 0;
+                problem = point_data ? data_count(word, points_, "points", count)
+                                     : data_count(word, grid_ ? last_count_ : poly_cell_count(),
+                                                  "cells", count);
+                return problem.empty() ? attributes(point_data, count) : problem;
             } else {
                 return at(word_at) + io::quoted(word) + " is not a section keyword" +
                        (previous.empty() ? ""
@@ -362,26 +367,36 @@ private:
         return tuples < 0 || components < 0 || (components > 0 && tuples > limit_ / components);
     }
 
-    // ReadArray of a `tuples` x `components` array whose type word comes next; `what` names it.
-    // The array, or null and `problem` says why. `numeric`: the reader needs a vtkDataArray
-    // (vtkDataReader::ReadPointCoordinates leaks a string array it cannot use).
-    vtkSmartPointer<vtkDataArray> read_array(const std::string& what, vtkIdType tuples,
-                                             vtkIdType components, std::string& problem) {
-        char type[256];
-        if (!reader_->ReadString(type)) {
-            problem = what + ": the file ends before its data type";
+    // ReadArray of a `tuples` x `components` array of `type`; `what` names it. The array, or
+    // null and `problem` says why. `numeric`: the reader needs a vtkDataArray (VTK's attribute
+    // and point readers leak a string array they cannot use).
+    vtkSmartPointer<vtkAbstractArray> read_array(const std::string& what, const char* type,
+                                                 vtkIdType tuples, vtkIdType components,
+                                                 bool numeric, std::string& problem) {
+        if (too_many(tuples, components)) {
+            problem = what + ": " + std::to_string(tuples) + " tuples of " +
+                      std::to_string(components) + " components, more than the file holds";
             return nullptr;
         }
         messages_.clear();
         auto array = vtk::TakeSmartPointer(reader_->ReadArray(type, tuples, components));
-        if (!array) {
+        if (!array)
             problem = what + ": " +
                       (messages_.has_error() ? messages_.first_error() : "VTK cannot read it");
-            return nullptr;
-        }
-        auto data = vtkSmartPointer<vtkDataArray>(vtkDataArray::SafeDownCast(array));
-        if (!data) problem = what + ": " + io::quoted(type) + " is not a numeric type";
-        return data;
+        else if (numeric && !vtkDataArray::SafeDownCast(array))
+            problem = what + ": " + io::quoted(type) + " is not a numeric type";
+        return problem.empty() ? array : nullptr;
+    }
+
+    // The same, its type the next word.
+    vtkSmartPointer<vtkAbstractArray> read_array(const std::string& what, vtkIdType tuples,
+                                                 vtkIdType components, bool numeric,
+                                                 std::string& problem) {
+        char type[256];
+        if (reader_->ReadString(type))
+            return read_array(what, type, tuples, components, numeric, problem);
+        problem = what + ": the file ends before its data type";
+        return nullptr;
     }
 
     std::string points(const std::string& word) {
@@ -389,7 +404,7 @@ private:
         const std::string what = word + " " + std::to_string(points_);
         if (too_many(points_, 3)) return what + ": more points than the file holds";
         std::string problem;
-        read_array(what, points_, 3, problem);
+        read_array(what, points_, 3, true, problem);
         return problem;
     }
 
@@ -419,11 +434,14 @@ private:
         char header[256];
         if (!reader_->ReadString(header) || lower(header) != "offsets")
             return what + ": no OFFSETS array";
-        auto offsets = read_array(what + " OFFSETS", first, 1, problem);
+        const auto offsets_array = read_array(what + " OFFSETS", first, 1, true, problem);
+        auto* offsets = vtkDataArray::SafeDownCast(offsets_array);
         if (!offsets) return problem;
         if (!reader_->ReadString(header) || lower(header) != "connectivity")
             return what + ": no CONNECTIVITY array";
-        auto connectivity = read_array(what + " CONNECTIVITY", second, 1, problem);
+        const auto connectivity_array =
+            read_array(what + " CONNECTIVITY", second, 1, true, problem);
+        auto* connectivity = vtkDataArray::SafeDownCast(connectivity_array);
         if (!connectivity) return problem;
         messages_.clear();
         if (!vtkSmartPointer<vtkCellArray>::New()->SetData(offsets, connectivity))
@@ -492,13 +510,153 @@ private:
     }
 
     // POINT_DATA or CELL_DATA and its count, which VTK compares with the data set's.
-    std::string data_count(const std::string& word, vtkIdType expected, const char* of) const {
+    std::string data_count(const std::string& word, vtkIdType expected, const char* of,
+                           vtkIdType& count) const {
         const std::streamoff word_at = here();
-        vtkIdType count = 0;
         if (!reader_->Read(&count)) return at(word_at) + word + " has no count";
         if (count != expected)
             return at(word_at) + word + " " + std::to_string(count) + " for a data set of " +
                    std::to_string(expected) + " " + of;
+        return "";
+    }
+
+    // The point data (or cell data) of `count` tuples, as vtkDataReader::ReadPointData and
+    // ReadCellData read it, up to the end of the file: each attribute's header, then its array.
+    // Their errors do not leak, but what VTK reads past an array it cannot use does: an
+    // attribute whose type is not numeric (ReadScalarData and the others lose the string array
+    // they cannot use) and a LOOKUP_TABLE that ends early (ReadLutData).
+    std::string attributes(bool point_data, vtkIdType count) {
+        const std::string of = point_data ? "POINT_DATA" : "CELL_DATA";
+        for (char raw[256]; reader_->ReadString(raw);) {
+            const std::string word = raw, keyword = lower(raw);
+            const std::streamoff word_at = here();
+            std::string problem;
+            if (starts_with(keyword, "scalars")) {
+                problem = scalars(word, count);
+            } else if (starts_with(keyword, "vectors") || starts_with(keyword, "normals")) {
+                problem = named_array(word, count, 3, true);
+            } else if (starts_with(keyword, "tensors6")) {
+                problem = named_array(word, count, 6, true);
+            } else if (starts_with(keyword, "tensors")) {
+                problem = named_array(word, count, 9, true);
+            } else if (starts_with(keyword, "texture_coordinates")) {
+                problem = texture_coordinates(word, count);
+            } else if (starts_with(keyword, "global_ids")) {
+                problem = named_array(word, count, 1, true);
+            } else if (starts_with(keyword, "pedigree_ids") ||
+                       (point_data && starts_with(keyword, "edge_flags"))) {
+                problem = named_array(word, count, 1, false);
+            } else if (starts_with(keyword, "color_scalars")) {
+                problem = color_scalars(word, count);
+            } else if (starts_with(keyword, "lookup_table")) {
+                problem = lookup_table(word);
+            } else if (starts_with(keyword, "field")) {
+                problem = field_data_problem(*reader_, messages_, limit_);
+                if (!problem.empty()) problem = word + " of " + of + " cannot be read: " + problem;
+            } else if (starts_with(keyword, point_data ? "cell_data" : "point_data")) {
+                // VTK reads the other kind in a call nested in this one: each switch is a
+                // deeper stack.
+                if (++switches_ > kMostSwitches)
+                    return at(word_at) + "more than " + std::to_string(kMostSwitches) +
+                           " switches between POINT_DATA and CELL_DATA";
+                vtkIdType other = 0;
+                if (!reader_->Read(&other)) return at(word_at) + word + " has no count";
+                if (too_many(other, 1))
+                    return at(word_at) + word + " " + std::to_string(other) +
+                           ": more values than the file holds";
+                return attributes(!point_data, other);
+            } else {
+                return at(word_at) + io::quoted(word) + " is not an attribute of " + of;
+            }
+            if (!problem.empty()) return at(word_at) + problem;
+        }
+        return "";
+    }
+
+    // An attribute "KEYWORD name type" of `components` components (SCALARS, VECTORS, ...);
+    // `numeric`: VTK needs a vtkDataArray for it.
+    std::string named_array(const std::string& word, vtkIdType count, vtkIdType components,
+                            bool numeric) {
+        char name[256];
+        if (!reader_->ReadString(name)) return word + " has no name and type";
+        return array_problem(word + " " + name, count, components, numeric);
+    }
+
+    // ReadArray's problem with the array whose type comes next, "" if none.
+    std::string array_problem(const std::string& what, vtkIdType tuples, vtkIdType components,
+                              bool numeric) {
+        std::string problem;
+        read_array(what, tuples, components, numeric, problem);
+        return problem;
+    }
+
+    // "SCALARS name type [components]" then "LOOKUP_TABLE name", then the array.
+    std::string scalars(const std::string& word, vtkIdType count) {
+        char name[256], type[256], key[256], table[256];
+        if (!reader_->ReadString(name) || !reader_->ReadString(type) || !reader_->ReadString(key))
+            return word + " has no name and type";
+        int components = 1;
+        if (lower(key) != "lookup_table") {
+            components = std::atoi(key);
+            if (components < 1 || !reader_->ReadString(key))
+                return word + " " + name + ": " + io::quoted(key) + " is not a component count";
+        }
+        if (lower(key) != "lookup_table" || !reader_->ReadString(table))
+            return word + " " + name + ": no LOOKUP_TABLE name after its type";
+        // The type came before the table name.
+        std::string problem;
+        read_array(word + " " + name, type, count, components, true, problem);
+        return problem;
+    }
+
+    // "TEXTURE_COORDINATES name dimension type".
+    std::string texture_coordinates(const std::string& word, vtkIdType count) {
+        char name[256];
+        int dimension = 0;
+        if (!reader_->ReadString(name) || !reader_->Read(&dimension))
+            return word + " has no name and dimension";
+        if (dimension < 1 || dimension > 3)
+            return word + " " + name + ": dimension " + std::to_string(dimension) +
+                   " (VTK reads 1 to 3)";
+        return array_problem(word + " " + name, count, dimension, true);
+    }
+
+    // "COLOR_SCALARS name components", then unsigned chars (binary) or floats (ASCII).
+    std::string color_scalars(const std::string& word, vtkIdType count) {
+        char name[256];
+        int components = 0;
+        if (!reader_->ReadString(name) || !reader_->Read(&components))
+            return word + " has no name and component count";
+        std::string problem;
+        read_array(word + " " + name,
+                   reader_->GetFileType() == VTK_BINARY ? "unsigned_char" : "float", count,
+                   components, false, problem);
+        return problem;
+    }
+
+    // "LOOKUP_TABLE name size", then size RGBA colours: VTK leaks the table if they end early.
+    std::string lookup_table(const std::string& word) {
+        char name[256];
+        int size = 0;
+        if (!reader_->ReadString(name) || !reader_->Read(&size))
+            return word + " has no name and size";
+        const std::string what = word + " " + name + " " + std::to_string(size);
+        if (too_many(size, 4)) return what + ": more colours than the file holds";
+        std::istream& in = *reader_->GetIStream();
+        if (reader_->GetFileType() == VTK_BINARY) {
+            char rest[256];
+            in.getline(rest, 256); // as VTK reads it
+            std::vector<char> bytes(4 * size_t(size));
+            in.read(bytes.data(), std::streamsize(bytes.size()));
+            if (in.eof()) return what + ": the file ends in its colours";
+            return "";
+        }
+        for (int i = 0; i < 4 * size; ++i) {
+            float value = 0;
+            if (!reader_->Read(&value))
+                return what + ": colour " + std::to_string(i / 4) +
+                       " is not 4 numbers, or the file ends in it";
+        }
         return "";
     }
 
@@ -511,6 +669,10 @@ private:
     std::map<std::string, vtkIdType> poly_cells_;
     std::optional<vtkIdType> grid_cells_, types_;
     vtkIdType last_count_ = 0; // VTK's ncells: the last count of a legacy CELLS or of CELL_TYPES
+    // VTK reads POINT_DATA after CELL_DATA (and back) in a call nested in the one before: a file
+    // of thousands of switches overflows the stack. No real file has more than one.
+    static constexpr int kMostSwitches = 100;
+    int switches_ = 0;
 };
 
 } // namespace
