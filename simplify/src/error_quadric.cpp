@@ -112,46 +112,54 @@ void ErrorQuadrics::add(uint32_t to, uint32_t from, double scale) {
     for (size_t i = 0; i < size; ++i) q[i] += scale * r[i];
 }
 
+namespace {
+
+// Two doubles in one SSE register (GCC and Clang vector extension; plain doubles elsewhere):
+// lane 0 for one quadric, lane 1 for the other. Each lane does exactly the scalar operations,
+// in the same order, so the results are the same bits as two scalar evaluations.
+using Pair = double __attribute__((vector_size(16)));
+
+} // namespace
+
 SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb,
                                   const float* fa, const float* fb) const {
     const double *qv = of(v), *qw = of(w);
     const Vec3 x = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
-    // Each quadric's terms are summed exactly as for one quadric on its own, then the two added:
-    // the same bits as two separate evaluations, without computing the shared terms twice.
-    auto geometry = [&](const double* q) {
-        auto times_a = [&](const Vec3& y) {
-            return Vec3{q[0] * y[0] + q[1] * y[1] + q[2] * y[2],
-                        q[1] * y[0] + q[3] * y[1] + q[4] * y[2],
-                        q[2] * y[0] + q[4] * y[1] + q[5] * y[2]};
-        };
-        const Vec3 ax = times_a(x), adx = times_a(dx);
-        const Vec3 b{q[6], q[7], q[8]};
-        SegmentError e;
-        e.e0 = dot(x, ax) + 2 * dot(b, x) + q[9];
-        e.h = dot(dx, ax) + dot(b, dx);
-        e.g = dot(dx, adx);
-        // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in
-        // ranges) weighted by A's trace and W: rounding leaves about 1e-12 of that.
-        e.noise = 1e-12 * (q[0] + q[3] + q[5] + q[10] + std::abs(q[9]));
-        return e;
+    // Each quadric's terms are summed as for one quadric on its own (v in lane 0, w in lane 1),
+    // then the two added: the segment's terms are computed once and both quadrics at once.
+    auto q = [&](size_t i) { return Pair{qv[i], qw[i]}; };
+    auto dot_q = [&](const Vec3& y, size_t i) { // (q[i], q[i + 1], q[i + 2]) . y per lane
+        return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2];
     };
-    SegmentError ev = geometry(qv), ew = geometry(qw);
-    auto data = [&](const double* q, SegmentError& e, size_t j, double sa, double ds) {
-        const double* gj = q + 11 + 4 * j;
-        const Vec3 g{gj[0], gj[1], gj[2]};
-        const double gx = dot(g, x) + gj[3], gd = dot(g, dx);
-        const double wt = q[10];
-        e.e0 += wt * sa * sa - 2 * sa * gx;
-        e.h += wt * sa * ds - ds * gx - sa * gd;
-        e.g += wt * ds * ds - 2 * ds * gd;
+    auto times_a = [&](const Vec3& y, Pair* out) { // the symmetric A (q[0..6)) times y
+        out[0] = q(0) * y[0] + q(1) * y[1] + q(2) * y[2];
+        out[1] = q(1) * y[0] + q(3) * y[1] + q(4) * y[2];
+        out[2] = q(2) * y[0] + q(4) * y[1] + q(5) * y[2];
     };
+    Pair ax[3], adx[3];
+    times_a(x, ax), times_a(dx, adx);
+    Pair e0 = x[0] * ax[0] + x[1] * ax[1] + x[2] * ax[2] + 2 * dot_q(x, 6) + q(9);
+    Pair h = dx[0] * ax[0] + dx[1] * ax[1] + dx[2] * ax[2] + dot_q(dx, 6);
+    Pair g = dx[0] * adx[0] + dx[1] * adx[1] + dx[2] * adx[2];
+    const Pair wt = q(10);
     for (size_t j = 0; j < components; ++j) {
         const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
         const double sa = (a - low[j]) * inv_range[j], ds = (b - a) * inv_range[j];
-        data(qv, ev, j, sa, ds);
-        data(qw, ew, j, sa, ds);
+        const size_t gj = 11 + 4 * j;
+        const Pair gx = dot_q(x, gj) + q(gj + 3), gd = dot_q(dx, gj);
+        e0 += wt * sa * sa - 2 * sa * gx;
+        h += wt * sa * ds - ds * gx - sa * gd;
+        g += wt * ds * ds - 2 * ds * gd;
     }
-    return ev += ew;
+    // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in ranges)
+    // weighted by A's trace and W: rounding leaves about 1e-12 of that.
+    auto noise = [](const double* r) {
+        return 1e-12 * (r[0] + r[3] + r[5] + r[10] + std::abs(r[9]));
+    };
+    SegmentError e;
+    e.e0 = e0[0] + e0[1], e.h = h[0] + h[1], e.g = g[0] + g[1];
+    e.noise = noise(qv) + noise(qw);
+    return e;
 }
 
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
