@@ -33,24 +33,30 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
     valence.assign(capacity, 0);
     out.assign(capacity, kNone);
 
-    // Outgoing half-edges grouped by origin (counting sort), to find twins without hashing.
+    // Outgoing half-edges grouped by origin (counting sort), each with its destination, to find
+    // twins without hashing.
     std::vector<uint32_t> first(vertex_count + 1, 0);
     for (uint32_t v : origin) ++first[v + 1];
     std::partial_sum(first.begin(), first.end(), first.begin());
-    std::vector<uint32_t> outgoing(halfedges), fill(first.begin(), first.end() - 1);
-    for (uint32_t h = 0; h < halfedges; ++h) outgoing[fill[origin[h]]++] = h;
+    std::vector<uint32_t> outgoing(halfedges), to(halfedges), fill(first.begin(), first.end() - 1);
+    for (uint32_t h = 0; h < halfedges; h += 3) // a triangle's three half-edges
+        for (uint32_t c = 0; c < 3; ++c) {
+            const uint32_t k = fill[origin[h + c]]++;
+            outgoing[k] = h + c, to[k] = origin[h + (c == 2 ? 0 : c + 1)];
+        }
 
     for (uint32_t v = 0; v < vertex_count; ++v)
         if (first[v + 1] > first[v]) kind[v] = VertexKind::Free;
 
     for (uint32_t h = 0; h < halfedges; ++h) {
+        if (twin[h] != kNone) continue; // its twin found it: the same counts from the other side
         const uint32_t a = origin[h], b = dest(h);
         uint32_t same = 0, opposite = 0, candidate = kNone;
-        for (uint32_t k = first[a]; k < first[a + 1]; ++k) same += dest(outgoing[k]) == b;
+        for (uint32_t k = first[a]; k < first[a + 1]; ++k) same += to[k] == b;
         for (uint32_t k = first[b]; k < first[b + 1]; ++k)
-            if (dest(outgoing[k]) == a) ++opposite, candidate = outgoing[k];
+            if (to[k] == a) ++opposite, candidate = outgoing[k];
         if (same == 1 && opposite == 1) {
-            twin[h] = candidate;
+            twin[h] = candidate, twin[candidate] = h;
         } else {
             line[h] = 1;
             if (same + opposite > 1) kind[a] = kind[b] = VertexKind::Complex;
@@ -75,9 +81,12 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
                 for (int k = 0; k < 3; ++k) sum[3 * v + k] = l > 0 ? sum[3 * v + k] / l : 0;
             }
             smoothed = sum;
-            for (size_t h = 0; h < halfedges; ++h) // each edge direction once per half-edge
-                for (int k = 0; k < 3; ++k)
-                    smoothed[3 * size_t(origin[h]) + k] += sum[3 * size_t(dest(h)) + k];
+            for (size_t h = 0; h < halfedges; h += 3) // each edge direction once per half-edge
+                for (size_t c = 0; c < 3; ++c) {
+                    double* to_origin = &smoothed[3 * size_t(origin[h + c])];
+                    const double* at_dest = &sum[3 * size_t(origin[h + (c == 2 ? 0 : c + 1)])];
+                    for (int k = 0; k < 3; ++k) to_origin[k] += at_dest[k];
+                }
             sum.swap(smoothed);
         }
         for (size_t v = 0; v < vertex_count; ++v) {
