@@ -294,9 +294,15 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
+    // Every edge at n: each half-edge that leaves n, then each that arrives, which has the
+    // length of its twin (one of the first) unless it is on the boundary.
+    for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3), update_length(leaving[i]);
     for (size_t i = 0; i < count; ++i) {
-        m.update_angles(leaving[i] / 3);
-        update_length(leaving[i]), update_length(prev(leaving[i])); // every edge at n
+        const uint32_t arriving = prev(leaving[i]), t = m.twin[arriving];
+        if (t != kNone)
+            length_[arriving] = length_[t];
+        else
+            update_length(arriving);
     }
     const Vec3 ref = add(m.reference_normal(a), m.reference_normal(b));
     const double lr = norm(ref);

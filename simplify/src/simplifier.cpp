@@ -154,9 +154,13 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (collapse) {
         length_.resize(surface.triangles.size());
         for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
-            update_length(h);
             const uint32_t t = mesh_.twin[h];
-            if (t == kNone || h < t) pool_.push_back({h, kNever, {}}), listed_[h] = 1;
+            if (t == kNone || h < t) {
+                update_length(h);
+                pool_.push_back({h, kNever, {}}), listed_[h] = 1;
+            } else {
+                length_[h] = length_[t]; // the same edge's length, the same bits
+            }
         }
     } else {
         shortest_.assign(capacity, 0);
