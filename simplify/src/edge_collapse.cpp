@@ -19,8 +19,7 @@ bool on_line(VertexKind k) {
 }
 } // namespace
 
-bool Simplifier::kinds_allow_collapse(uint32_t h) const {
-    const uint32_t a = mesh_.origin[h], b = mesh_.dest(h);
+bool Simplifier::kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const {
     const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
     if (ka == VertexKind::Complex || kb == VertexKind::Complex) return false;
     if (ka == VertexKind::Dead || kb == VertexKind::Dead) return false;
@@ -33,12 +32,12 @@ bool Simplifier::kinds_allow_collapse(uint32_t h) const {
     return mesh_.twin[h] == kNone || !mesh_.is_boundary_vertex(a) || !mesh_.is_boundary_vertex(b);
 }
 
-bool Simplifier::collapsible(uint32_t h) const {
-    if (!kinds_allow_collapse(h)) return false;
+bool Simplifier::collapsible(uint32_t h, uint32_t a, uint32_t b) const {
+    if (!kinds_allow_collapse(h, a, b)) return false;
     const uint32_t failed = fail_[h];
     if (failed == 0) return true;
     const uint32_t t = mesh_.twin[h];
-    for (uint32_t v : {mesh_.origin[h], mesh_.dest(h), mesh_.origin[prev(h)],
+    for (uint32_t v : {a, b, mesh_.origin[prev(h)],
                        t != kNone ? mesh_.origin[prev(t)] : mesh_.origin[h]})
         if (epoch_[v] > failed) return true;
     return false;
@@ -58,8 +57,8 @@ void Simplifier::update_length(uint32_t h) {
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
-    if (!kinds_allow_collapse(h)) return false;
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
+    if (!kinds_allow_collapse(h, a, b)) return false;
     const uint32_t x = mesh_.origin[prev(h)], y = ht != kNone ? mesh_.origin[prev(ht)] : kNone;
 
     // A removed triangle must keep at least one neighbour, or it would leave a dangling edge.

@@ -262,9 +262,9 @@ void Simplifier::rank_candidates(size_t& share) {
         }
         Member& m = pool_[kept++];
         m = member;
-        if (collapse ? !collapsible(id) : !removable(id)) continue;
-        const uint32_t changed =
-            std::max(rekey_[a], collapse ? rekey_[mesh_.dest(id)] : uint32_t(0));
+        const uint32_t b = collapse ? mesh_.dest(id) : kNone;
+        if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
+        const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
         if (m.keyed == kNever || changed > m.keyed)
             m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
         if (!std::isinf(m.key.weight)) scratch_.push_back(detail::Candidate::make(m.key, id));

@@ -70,10 +70,11 @@ private:
     bool report_progress(size_t live, size_t target);
 
     // edge_collapse.cpp
-    bool kinds_allow_collapse(uint32_t h) const;
+    // a = origin of h, b = its destination (the callers have them).
+    bool kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const;
     // kinds_allow_collapse, and not known to fail: plan_collapse refused it and nothing it reads
     // has changed since.
-    bool collapsible(uint32_t h) const;
+    bool collapsible(uint32_t h, uint32_t a, uint32_t b) const;
     detail::Key collapse_key(uint32_t h) const;
     void update_length(uint32_t h); // after a corner of h's triangle moved
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
