@@ -37,8 +37,8 @@ bool Simplifier::collapsible(uint32_t h, uint32_t a, uint32_t b) const {
     const uint32_t failed = fail_[h];
     if (failed == 0) return true;
     const uint32_t t = mesh_.twin[h];
-    for (uint32_t v : {a, b, mesh_.origin[prev(h)],
-                       t != kNone ? mesh_.origin[prev(t)] : mesh_.origin[h]})
+    for (uint32_t v :
+         {a, b, mesh_.origin[prev(h)], t != kNone ? mesh_.origin[prev(t)] : mesh_.origin[h]})
         if (epoch_[v] > failed) return true;
     return false;
 }
