@@ -15,6 +15,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
 #include <vtkAbstractArray.h>
@@ -87,12 +88,132 @@ std::string walk_cells(Ints& ints, const std::string& keyword, int64_t cells, in
     return "";
 }
 
+bool is_vtk_type(const std::string& word) {
+    static const std::set<std::string> types{"bit",
+                                             "unsigned_char",
+                                             "char",
+                                             "signed_char",
+                                             "unsigned_short",
+                                             "short",
+                                             "unsigned_int",
+                                             "int",
+                                             "unsigned_long",
+                                             "long",
+                                             "unsigned_long_long",
+                                             "long_long",
+                                             "float",
+                                             "double",
+                                             "vtkidtype",
+                                             "vtktypeint64",
+                                             "vtktypeuint64",
+                                             "string",
+                                             "utf8_string",
+                                             "variant"};
+    return types.count(lower(word)) > 0;
+}
+
+// VTK 9.1's DecodeString, which turns "%20" back into " " in the names and strings it reads,
+// reads and writes past the end of a string of one or two characters with a '%' in it (its test
+// that two characters follow a '%' underflows). True for such a string (up to a NUL, as VTK sees
+// it).
+bool overruns_decode(std::string_view text) {
+    text = text.substr(0, text.find('\0'));
+    return !text.empty() && text.size() < 3 && text.find('%') != std::string_view::npos;
+}
+
+// Such a word or line (a name, a string value, a component name) is never a number or a keyword,
+// so a line scan refuses it wherever VTK could decode it: anywhere after an ASCII file's header,
+// in the METADATA blocks of a binary file (the rest of a binary file is not split in lines and
+// words, and its names are checked by the data-set walk). "" or what is wrong.
+std::string decode_overrun(std::string_view line, const std::vector<std::string>& words) {
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (overruns_decode(line))
+        return io::quoted(line) +
+               ": VTK 9.1 reads past a name or string of one or two characters with a '%'";
+    for (const std::string& word : words)
+        if (overruns_decode(word))
+            return io::quoted(word) +
+                   ": VTK 9.1 reads past a name or string of one or two characters with a '%'";
+    return "";
+}
+
+// A line that ends a binary file's METADATA block: a section or attribute keyword, or the header
+// of a FIELD array ("name components tuples type").
+bool ends_metadata(const std::vector<std::string>& words) {
+    static const char* const keywords[] = {
+        "points",     "cells",           "cell_types", "vertices",      "lines",
+        "polygons",   "triangle_strips", "point_data", "cell_data",     "field",
+        "scalars",    "vectors",         "normals",    "tensors",       "texture_coordinates",
+        "global_ids", "pedigree_ids",    "edge_flags", "color_scalars", "lookup_table",
+        "offsets",    "connectivity"};
+    const std::string first = lower(words[0]);
+    for (const char* k : keywords)
+        if (first.rfind(k, 0) == 0) return true;
+    return words.size() == 4 && is_vtk_type(words[3]);
+}
+
+// VTK's ReadArray reads a binary string array as a length, in one to eight bytes, and that many
+// bytes, for each value, and allocates each length before it reads it; a variant array as a
+// type and a word for each value, each word decoded (see overruns_decode). Both are walked first,
+// on VTK's stream, which is left where it was. "" or what is wrong.
+std::string string_values_problem(vtkDataReader& reader, const std::string& type, int64_t values,
+                                  std::streamoff file_size) {
+    const std::string kind = lower(type);
+    const bool strings = kind.rfind("string", 0) == 0 || kind.rfind("utf8_string", 0) == 0;
+    const bool variants = kind.rfind("variant", 0) == 0;
+    if (!strings && !variants) return "";
+    // Each value takes a byte of the file at least; VTK makes an empty one for each it misses.
+    if (values > file_size) return std::to_string(values) + " strings, more than the file holds";
+    if (strings && reader.GetFileType() != VTK_BINARY) return ""; // lines, checked by the scan
+    std::istream& in = *reader.GetIStream();
+    const std::ios::iostate state = in.rdstate();
+    in.clear();
+    const std::streamoff start = in.tellg();
+    in.clear(state);
+    std::string problem;
+    if (variants) {
+        for (int64_t i = 0; i < values && problem.empty(); ++i) {
+            int value_type = 0;
+            std::string word;
+            if (!(in >> value_type >> word)) break; // VTK reads empty words from here on
+            if (overruns_decode(word))
+                problem = "variant " + std::to_string(i) + " " + io::quoted(word) +
+                          ": VTK 9.1 reads past a string of one or two characters with a '%'";
+        }
+    } else {
+        char rest[256];
+        in.getline(rest, 256); // as VTK reads it
+        for (int64_t i = 0; i < values && problem.empty(); ++i) {
+            const int first = in.peek();
+            uint64_t length = 0;
+            const int bytes = first == EOF ? 0 : std::array{8, 4, 2, 1}[first >> 6];
+            if (bytes == 1) length = uint64_t(in.get()) & 0x3f;
+            for (int b = 0; b < bytes && bytes > 1; ++b) length = length << 8 | uint8_t(in.get());
+            if (bytes == 2) length &= 0x3fff;
+            if (bytes == 4) length &= 0x3fffffff;
+            if (first == EOF || !in) {
+                problem = "the file ends in string " + std::to_string(i);
+            } else if (length > uint64_t(file_size - in.tellg())) {
+                problem = "string " + std::to_string(i) + " is " + std::to_string(length) +
+                          " bytes long, more than the file holds";
+            } else {
+                in.seekg(std::streamoff(length), std::ios::cur);
+            }
+        }
+    }
+    in.clear();
+    in.seekg(start);
+    in.clear(state);
+    return problem;
+}
+
 // Reads a FIELD section (just after the word FIELD) the way VTK 9.1's
 // vtkDataReader::ReadFieldData does, with VTK's own ReadString, Read and ReadArray, but checks
 // the counts before VTK allocates for them (an array count or array size the file cannot hold
 // is gigabytes; a negative one a std::length_error thrown through VTK, which leaks what it had
 // built). "" if VTK reads every array, else what is wrong.
-std::string field_data_problem(vtkDataReader& reader, VtkMessageCapture& messages, int64_t limit) {
+std::string field_data_problem(vtkDataReader& reader, VtkMessageCapture& messages, int64_t limit,
+                               std::streamoff file_size) {
     char name[1024];
     int arrays = 0;
     if (!reader.ReadString(name) || !reader.Read(&arrays)) return "no name and number of arrays";
@@ -104,11 +225,18 @@ std::string field_data_problem(vtkDataReader& reader, VtkMessageCapture& message
         vtkIdType components = 0, tuples = 0;
         if (!reader.ReadString(name)) return "the file ends before " + array;
         if (std::string(name) == "NULL_ARRAY") continue;
+        if (overruns_decode(name))
+            return array + " is named " + io::quoted(name) +
+                   ": VTK 9.1 reads past a name of one or two characters with a '%'";
         if (!reader.Read(&components) || !reader.Read(&tuples) || !reader.ReadString(type))
             return array + " has no component count, tuple count and type";
         if (components < 0 || tuples < 0 || (components > 0 && tuples > limit / components))
             return array + " declares " + std::to_string(components) + " components of " +
                    std::to_string(tuples) + " tuples, more than the file holds";
+        if (std::string problem =
+                string_values_problem(reader, type, tuples * components, file_size);
+            !problem.empty())
+            return array + ": " + problem;
         messages.clear();
         vtkAbstractArray* data = reader.ReadArray(type, tuples, components);
         if (data == nullptr)
@@ -139,30 +267,6 @@ bool is_number_word(const std::string& word) {
     const auto [end, error] = std::from_chars(begin, word.data() + word.size(), value);
     return end == word.data() + word.size() &&
            (error == std::errc() || error == std::errc::result_out_of_range);
-}
-
-bool is_vtk_type(const std::string& word) {
-    static const std::set<std::string> types{"bit",
-                                             "unsigned_char",
-                                             "char",
-                                             "signed_char",
-                                             "unsigned_short",
-                                             "short",
-                                             "unsigned_int",
-                                             "int",
-                                             "unsigned_long",
-                                             "long",
-                                             "unsigned_long_long",
-                                             "long_long",
-                                             "float",
-                                             "double",
-                                             "vtkidtype",
-                                             "vtktypeint64",
-                                             "vtktypeuint64",
-                                             "string",
-                                             "utf8_string",
-                                             "variant"};
-    return types.count(lower(word)) > 0;
 }
 
 // VTK allocates what an array header or a count declares before it reads a value (a declared
@@ -244,7 +348,8 @@ struct VectorInts {
 class DataSetWalk {
 public:
     DataSetWalk(const std::string& path, int64_t most_values)
-        : path_(path), limit_(most_values), reader_(vtkSmartPointer<vtkDataReader>::New()) {}
+        : path_(path), limit_(most_values), file_size_(most_values / 8),
+          reader_(vtkSmartPointer<vtkDataReader>::New()) {}
     ~DataSetWalk() { reader_->CloseVTKFile(); }
     DataSetWalk(const DataSetWalk&) = delete;
     DataSetWalk& operator=(const DataSetWalk&) = delete;
@@ -308,7 +413,7 @@ private:
             field_at = -1;
             std::string problem;
             if (starts_with(keyword, "field")) {
-                problem = field_data_problem(*reader_, messages_, limit_);
+                problem = field_data_problem(*reader_, messages_, limit_, file_size_);
                 if (!problem.empty()) return field_problem(word_at, problem);
                 field_at = word_at;
             } else if (starts_with(keyword, "points")) {
@@ -376,6 +481,11 @@ private:
         if (too_many(tuples, components)) {
             problem = what + ": " + std::to_string(tuples) + " tuples of " +
                       std::to_string(components) + " components, more than the file holds";
+            return nullptr;
+        }
+        problem = string_values_problem(*reader_, type, tuples * components, file_size_);
+        if (!problem.empty()) {
+            problem = what + ": " + problem;
             return nullptr;
         }
         messages_.clear();
@@ -551,7 +661,7 @@ private:
             } else if (starts_with(keyword, "lookup_table")) {
                 problem = lookup_table(word);
             } else if (starts_with(keyword, "field")) {
-                problem = field_data_problem(*reader_, messages_, limit_);
+                problem = field_data_problem(*reader_, messages_, limit_, file_size_);
                 if (!problem.empty()) problem = word + " of " + of + " cannot be read: " + problem;
             } else if (starts_with(keyword, point_data ? "cell_data" : "point_data")) {
                 // VTK reads the other kind in a call nested in this one: each switch is a
@@ -579,6 +689,7 @@ private:
                             bool numeric) {
         char name[256];
         if (!reader_->ReadString(name)) return word + " has no name and type";
+        if (overruns_decode(name)) return name_overrun(word, name);
         return array_problem(word + " " + name, count, components, numeric);
     }
 
@@ -590,11 +701,17 @@ private:
         return problem;
     }
 
+    static std::string name_overrun(const std::string& word, const char* name) {
+        return word + " " + io::quoted(name) +
+               ": VTK 9.1 reads past a name of one or two characters with a '%'";
+    }
+
     // "SCALARS name type [components]" then "LOOKUP_TABLE name", then the array.
     std::string scalars(const std::string& word, vtkIdType count) {
         char name[256], type[256], key[256], table[256];
         if (!reader_->ReadString(name) || !reader_->ReadString(type) || !reader_->ReadString(key))
             return word + " has no name and type";
+        if (overruns_decode(name)) return name_overrun(word, name);
         int components = 1;
         if (lower(key) != "lookup_table") {
             components = std::atoi(key);
@@ -615,6 +732,7 @@ private:
         int dimension = 0;
         if (!reader_->ReadString(name) || !reader_->Read(&dimension))
             return word + " has no name and dimension";
+        if (overruns_decode(name)) return name_overrun(word, name);
         if (dimension < 1 || dimension > 3)
             return word + " " + name + ": dimension " + std::to_string(dimension) +
                    " (VTK reads 1 to 3)";
@@ -627,6 +745,7 @@ private:
         int components = 0;
         if (!reader_->ReadString(name) || !reader_->Read(&components))
             return word + " has no name and component count";
+        if (overruns_decode(name)) return name_overrun(word, name);
         std::string problem;
         read_array(word + " " + name,
                    reader_->GetFileType() == VTK_BINARY ? "unsigned_char" : "float", count,
@@ -662,6 +781,7 @@ private:
 
     std::string path_;
     int64_t limit_;
+    std::streamoff file_size_;
     vtkSmartPointer<vtkDataReader> reader_;
     VtkMessageCapture messages_;
     bool grid_ = false;
@@ -689,6 +809,7 @@ std::string check_legacy_vtk(const std::string& path) {
     const bool binary = lower(type).rfind("binary", 0) == 0;
     IntReader ints(in, binary);
     std::set<std::string> sections; // a data set has each at most once
+    bool in_metadata = false;       // of a binary file, after a METADATA line
     in.seekg(0, std::ios::end);
     const int64_t most_values = 8 * int64_t(in.tellg());
     in.seekg(0);
@@ -701,6 +822,11 @@ std::string check_legacy_vtk(const std::string& path) {
             for (std::string w; split >> w;) all_words.push_back(w);
         }
         if (all_words.empty()) continue;
+        if (binary && in_metadata && ends_metadata(all_words)) in_metadata = false;
+        if (!binary || in_metadata)
+            if (std::string problem = decode_overrun(line, all_words); !problem.empty())
+                return "line " + std::to_string(number) + ": " + problem;
+        if (binary && lower(all_words[0]).rfind("metadata", 0) == 0) in_metadata = true;
         if (std::string problem = check_declared_size(all_words, most_values); !problem.empty())
             return "line " + std::to_string(number) + ": " + problem;
         std::istringstream words(line);
