@@ -6,6 +6,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <utility>
 
 namespace ddsimp {
 namespace {
@@ -119,23 +120,49 @@ void drop_bad_triangles(Surface& s, RepairReport& report) {
 // Flips triangles so that neighbours across every two-triangle edge run it in opposite
 // directions, walking each component breadth-first from its lowest-numbered triangle.
 void orient_consistently(Surface& s, RepairReport& report) {
+    constexpr uint32_t kNone = 0xffffffffu;
     const size_t nv = s.vertex_count(), nt = s.triangle_count();
-    std::vector<uint32_t> first(nv + 1, 0);
-    for (uint32_t v : s.triangles) ++first[v + 1];
-    for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
-    std::vector<uint32_t> star(s.triangles.size()), fill(first.begin(), first.end() - 1);
-    for (uint32_t t = 0; t < nt; ++t)
-        for (int c = 0; c < 3; ++c) star[fill[s.triangles[3 * t + c]]++] = t;
-
-    auto has = [&](uint32_t t, uint32_t v) {
-        const uint32_t* c = &s.triangles[3 * size_t(t)];
-        return c[0] == v || c[1] == v || c[2] == v;
+    // The triangle across each edge of each triangle (by half-edge 3t + c of the input's
+    // orientation, the edge from corner c to corner c + 1), where exactly two triangles share
+    // the edge: the half-edges grouped by their lower vertex (counting sort), each with its
+    // higher one, and matched within their group. A flip changes no triangle's vertices, so
+    // these stay right.
+    auto ends = [&](uint32_t h) {
+        const uint32_t a = s.triangles[h], b = s.triangles[h % 3 == 2 ? h - 2 : h + 1];
+        return std::pair{std::min(a, b), std::max(a, b)};
     };
+    const uint32_t halfedges = uint32_t(s.triangles.size());
+    std::vector<uint32_t> first(nv + 1, 0);
+    for (uint32_t h = 0; h < halfedges; ++h) ++first[ends(h).first + 1];
+    for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+    std::vector<uint64_t> group(halfedges); // higher vertex << 32 | half-edge
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (uint32_t h = 0; h < halfedges; ++h) {
+        const auto [low, high] = ends(h);
+        group[fill[low]++] = uint64_t(high) << 32 | h;
+    }
+    std::vector<uint32_t> across(halfedges, kNone);
+    for (size_t v = 0; v < nv; ++v) {
+        const auto begin = group.begin() + first[v], end = group.begin() + first[v + 1];
+        std::sort(begin, end); // by the higher vertex: each edge's half-edges together
+        for (auto i = begin; i != end;) {
+            auto j = i;
+            while (j != end && *j >> 32 == *i >> 32) ++j;
+            if (j - i == 2) {
+                const uint32_t h0 = uint32_t(i[0]), h1 = uint32_t(i[1]);
+                across[h0] = h1 / 3, across[h1] = h0 / 3;
+            }
+            i = j;
+        }
+    }
+
     // Does triangle t run the edge a -> b?
     auto runs = [&](uint32_t t, uint32_t a, uint32_t b) {
         const uint32_t* c = &s.triangles[3 * size_t(t)];
         return (c[0] == a && c[1] == b) || (c[1] == a && c[2] == b) || (c[2] == a && c[0] == b);
     };
+    // seen[t]: 1 once reached, 2 if it was also flipped (corners 1 and 2 swapped, so its edge
+    // from corner c is the input's edge from corner 2 - c).
     std::vector<uint8_t> seen(nt, 0);
     std::vector<uint32_t> queue;
     for (uint32_t root = 0; root < nt; ++root) {
@@ -144,16 +171,15 @@ void orient_consistently(Surface& s, RepairReport& report) {
         queue.assign(1, root);
         for (size_t q = 0; q < queue.size(); ++q) {
             const uint32_t t = queue[q];
-            for (int c = 0; c < 3; ++c) {
+            for (uint32_t c = 0; c < 3; ++c) {
                 const uint32_t a = s.triangles[3 * t + c], b = s.triangles[3 * t + (c + 1) % 3];
-                uint32_t other = 0, sharing = 0;
-                for (uint32_t k = first[a]; k < first[a + 1]; ++k)
-                    if (star[k] != t && has(star[k], b)) other = star[k], ++sharing;
-                if (sharing != 1 || seen[other]) continue; // boundary, non-manifold or done
+                const uint32_t other = across[3 * t + (seen[t] == 2 ? 2 - c : c)];
+                if (other == kNone || seen[other]) continue; // boundary, non-manifold or done
                 seen[other] = 1;
                 if (runs(other, a, b)) {
                     std::swap(s.triangles[3 * size_t(other) + 1],
                               s.triangles[3 * size_t(other) + 2]);
+                    seen[other] = 2;
                     ++report.triangles_flipped;
                 }
                 queue.push_back(other);
