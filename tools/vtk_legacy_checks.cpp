@@ -338,13 +338,15 @@ struct VectorInts {
 // Walks the data set of a POLYDATA or UNSTRUCTURED_GRID file the way VTK 9.1's
 // vtkPolyDataReader::ReadMeshSimple and vtkUnstructuredGridReader::ReadMeshSimple do, section
 // by section, with VTK's own ReadString, Read, ReadArray and ReadCellsLegacy on VTK's own stream
-// (so every word is the word VTK meets), up to POINT_DATA, CELL_DATA or the end. Those readers
+// (so every word is the word VTK meets), then its point and cell data as vtkDataReader's
+// ReadPointData and ReadCellData do, to the end of the file. Those readers
 // return on each error they find without freeing what they have read (the grid reader's cell
 // types and cells; the poly data reader goes on reading a closed stream after a cell array it
 // cannot read), so every such error is found here first. Besides, the walk refuses what VTK does
 // not check and would read past: CELL_TYPES with fewer types than the cells of CELLS, format 5
 // offsets that leave their connectivity, a second CELLS or CELL_TYPES in a grid (the first
-// leaks). Every array is read once more than VTK reads it.
+// leaks), string arrays where VTK needs numbers (it loses them). Every array is read once more
+// than VTK reads it (and freed at once).
 class DataSetWalk {
 public:
     DataSetWalk(const std::string& path, int64_t most_values)
