@@ -165,7 +165,8 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
                                const double* weights, size_t count) const {
     if (count == 0) return 0;
-    auto weight = [&](size_t i) { return weights ? weights[i] : 1.0 / double(count); };
+    const double mean = 1.0 / double(count);
+    auto weight = [&](size_t i) { return weights ? weights[i] : mean; };
     const double* q = of(v);
     Vec3 x{0, 0, 0};
     for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));

@@ -323,7 +323,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
     const size_t n = plan.ring_size;
     const Vec3 centre = mesh_.point(plan.vertex);
     const double turn_cos = mesh_.limits.normal_turn_cos;
-    double best_shape = -1, best_error = INFINITY;
+    double best_shape = -1, best_error = INFINITY, chosen_error = 0;
     size_t best = n;
     // With the error quadrics the fan of least error wins (the best shape among equals).
     const double noise = quadric_terms_ ? quadrics_.noise(plan.vertex) : 0;
@@ -369,12 +369,13 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
         if (quadric_terms_) {
             const double error = fan_error(j);
             if (error < best_error - noise || (error <= best_error + noise && worst > best_shape))
-                best_error = std::min(error, best_error), best_shape = worst, best = j;
+                best_error = std::min(error, best_error), best_shape = worst, best = j,
+                chosen_error = error;
         } else if (worst > best_shape)
             best_shape = worst, best = j;
     }
     if (best == n) return false;
-    plan.error = quadric_terms_ ? fan_error(best) : 0;
+    plan.error = chosen_error; // the best fan's (0 with the paper's terms)
     for (size_t k = 1; k + 1 < n; ++k) {
         const size_t i = (best + k) % n, i1 = (i + 1) % n;
         if (plan.boundary && i == n - 1) break;
