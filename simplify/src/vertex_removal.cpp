@@ -338,11 +338,24 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
         }
         return triangulation_error(plan, triangles, count, xy);
     };
+    // What does not depend on the fan's apex, once: the ring's points and reference normals,
+    // and per star triangle (v, i, i + 1) its normal, that normal's length and the squared
+    // length of its outer edge.
+    Vec3 point[kMaxValence], reference[kMaxValence], before[kMaxValence];
+    double before_length[kMaxValence], outer[kMaxValence];
+    for (size_t i = 0; i < n; ++i)
+        point[i] = mesh_.point(plan.ring[i]), reference[i] = mesh_.reference_normal(plan.ring[i]);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 &q = point[i], &r = point[(i + 1) % n];
+        before[i] = cross(sub(q, centre), sub(r, centre));
+        before_length[i] = norm(before[i]);
+        outer[i] = dot(sub(q, r), sub(q, r));
+    }
     for (size_t j = 0; j < n; ++j) {
         // On a boundary the fan must keep the new boundary edge; on a feature line, its edge.
         if (plan.boundary && j != 0 && j != n - 1) continue;
         if (plan.feature_a >= 0 && int(j) != plan.feature_a && int(j) != plan.feature_b) continue;
-        const Vec3 apex = mesh_.point(plan.ring[j]);
+        const Vec3 apex = point[j];
         double worst = 1;
         bool ok = true;
         // Triangle (j, i, i + 1) replaces the star's (v, i, i + 1): v moves onto ring[j].
@@ -352,15 +365,17 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             const size_t i = (j + k) % n, i1 = (i + 1) % n;
             if (plan.boundary && i == n - 1) break;
             if (k >= 2 && (adjacent[j] >> i & 1)) ok = false; // the diagonal j-i exists
-            const Vec3 q = mesh_.point(plan.ring[i]), r = mesh_.point(plan.ring[i1]);
-            const Vec3 before = cross(sub(q, centre), sub(r, centre));
+            const Vec3 &q = point[i], &r = point[i1];
             const Vec3 after = cross(sub(q, apex), sub(r, apex));
-            const double la = norm(after), lb = norm(before);
-            const double sum = dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) +
-                               dot(sub(q, r), sub(q, r));
-            if (la <= kNeedle * sum || (lb > 0 && dot(after, before) < turn_cos * la * lb) ||
-                (plan.star_faces_along &&
-                 !mesh_.faces_along(after, plan.ring[j], plan.ring[i], plan.ring[i1])))
+            const double la = norm(after), lb = before_length[i];
+            const double sum =
+                dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) + outer[i];
+            auto faces_along = [&] { // mesh_.faces_along(after, ring[j], ring[i], ring[i1])
+                return dot(after, reference[j]) > 0 && dot(after, reference[i]) > 0 &&
+                       dot(after, reference[i1]) > 0;
+            };
+            if (la <= kNeedle * sum || (lb > 0 && dot(after, before[i]) < turn_cos * la * lb) ||
+                (plan.star_faces_along && !faces_along()))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);
