@@ -2,7 +2,7 @@
 """Writes the seed corpus of the file-reader fuzz targets (tests/fuzz/corpus/read_*): small cuts
 of the real data (../shared/data, data/) in the layouts the real files use, plus a few small
 files in the variants the readers accept (binary PLY and STL, OBJ with texture and normal
-indices, OFF with colours, binary legacy VTK). Run from the repository root:
+indices, OFF with colours, binary legacy VTK, both VTK cell layouts). Run from the repository root:
 
     /usr/bin/python3 tests/fuzz/make_file_seeds.py [SHARED_DATA]   (Debian's python3-vtk9)
 """
@@ -157,6 +157,9 @@ def vtk_seeds():
     reader.Update()
     grid = first_cells(reader.GetOutput(), 24)
     write(grid, "surface-vectors-cut.vtk", False)
+    # The grid in the OFFSETS/CONNECTIVITY layout too, ASCII and binary.
+    write(grid, "surface-vectors-cut-version-5.1.vtk", False, 51)
+    write(grid, "surface-vectors-cut-version-5.1-binary.vtk", True, 51)
     geometry = vtk.vtkGeometryFilter()
     geometry.SetInputData(grid)
     geometry.Update()
