@@ -8,7 +8,7 @@ packages=(
     libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
-    yamllint shellcheck
+    yamllint shellcheck iproute2  # iproute2: ss, which the Slurm job uses to find free ports
     clang libclang-rt-14-dev llvm  # tests/fuzz/run.sh: libFuzzer and llvm-symbolizer
     python3-matplotlib python3-vtk9 xvfb xauth
     chromium  # tests/web: the browser renderer's end-to-end tests (headless)
