@@ -8,7 +8,8 @@ packages=(
     libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
-    yamllint shellcheck iproute2  # iproute2: ss, which the Slurm job uses to find free ports
+    yamllint shellcheck
+    iproute2 procps  # the Slurm job finds free ports with ss; its test stops the server with pkill
     clang libclang-rt-14-dev llvm  # tests/fuzz/run.sh: libFuzzer and llvm-symbolizer
     python3-matplotlib python3-vtk9 xvfb xauth
     chromium  # tests/web: the browser renderer's end-to-end tests (headless)
