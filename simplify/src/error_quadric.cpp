@@ -114,7 +114,7 @@ void ErrorQuadrics::add(uint32_t to, uint32_t from, double scale) {
 
 namespace {
 
-// Two doubles in one SSE register (GCC and Clang vector extension; plain doubles elsewhere):
+// Two doubles in one SSE register (GCC and Clang vector extension, which the build needs):
 // lane 0 for one quadric, lane 1 for the other. Each lane does exactly the scalar operations,
 // in the same order, so the results are the same bits as two scalar evaluations.
 using Pair = double __attribute__((vector_size(16)));

@@ -370,12 +370,9 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             const double la = norm(after), lb = before_length[i];
             const double sum =
                 dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) + outer[i];
-            auto faces_along = [&] { // mesh_.faces_along(after, ring[j], ring[i], ring[i1])
-                return dot(after, reference[j]) > 0 && dot(after, reference[i]) > 0 &&
-                       dot(after, reference[i1]) > 0;
-            };
             if (la <= kNeedle * sum || (lb > 0 && dot(after, before[i]) < turn_cos * la * lb) ||
-                (plan.star_faces_along && !faces_along()))
+                (plan.star_faces_along && !WorkingMesh::faces_along_normals(
+                                              after, reference[j], reference[i], reference[i1])))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);

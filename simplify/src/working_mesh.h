@@ -108,7 +108,11 @@ struct WorkingMesh {
     // Does a triangle with (unnormalised) normal n face the way of the surface at its corners
     // (less than 90 degrees from each corner's reference normal)?
     template <class... V> bool faces_along(const Vec3& n, V... corners) const {
-        return ((dot(n, reference_normal(corners)) > 0) && ...);
+        return faces_along_normals(n, reference_normal(corners)...);
+    }
+    // The same, from the corners' reference normals (for callers that hold them already).
+    template <class... R> static bool faces_along_normals(const Vec3& n, const R&... references) {
+        return ((dot(n, references) > 0) && ...);
     }
     Vec3 point(uint32_t v) const {
         const float* p = position_of(v);
