@@ -44,7 +44,7 @@ COLUMNS = [
     "components_out", "nonmanifold_edges_in", "nonmanifold_edges_out",
 ]
 SCALING_COLUMNS = ["surface", "simplifier", "alpha", "triangles_in", "target", "triangles_out",
-                   "status", "message", "repetitions", "median_seconds", "peak_rss_mb"]
+                   "status", "message", "repetitions", "median_cpu_seconds", "peak_rss_mb"]
 
 
 def configurations():
@@ -213,15 +213,15 @@ def plot_scaling(scaling, out_dir):
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     for name in sorted({s["simplifier"] for s in scaling}):
-        pts = sorted((s["triangles_in"], s["median_seconds"]) for s in scaling
-                     if s["simplifier"] == name and s["median_seconds"] is not None
+        pts = sorted((s["triangles_in"], s["median_cpu_seconds"]) for s in scaling
+                     if s["simplifier"] == name and s["median_cpu_seconds"] is not None
                      and s["status"] in ("ok", "not reached"))
         if pts:
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=name)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("input triangles (carotid isosurfaces, resampled volume)")
-    ax.set_ylabel("seconds to 10% (median)")
+    ax.set_ylabel("CPU seconds to 10% (median)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -248,7 +248,8 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              f"{'quick mode, ' if quick else ''}in {elapsed / 60:.1f} min by "
              "`bench/report/run.sh" + (" --quick" if quick else "") + "`.\n")
     L.append("Every reduction ran in its own process (`ddsimp_report reduce`); time is the "
-             "wall clock of the simplifier's call on the loaded surface, one thread, conversion to "
+             "CPU time (user + system) of the simplifier's call on the loaded surface, one thread, "
+             "since the machine may be shared (results.csv also has the wall clock), conversion to "
              "and from a peer's own mesh type included (for ddsimp: its validation and adjacency), memory the process's peak RSS "
              "(`ru_maxrss`, loaded surface included) and the rise of the RSS during the call. "
              "Errors are measured by the same code for every simplifier (`tools/compare.h`, as "
@@ -335,13 +336,13 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
                           and s["triangles_in"] == n), None)
                 if not s:
                     cells.append("—")
-                elif s["status"] in ("ok", "not reached") and s["median_seconds"] is not None:
+                elif s["status"] in ("ok", "not reached") and s["median_cpu_seconds"] is not None:
                     extra = "" if s["status"] == "ok" else f" (stops at {s['triangles_out'] / n:.0%})"
-                    cells.append(f"{s['median_seconds']:.2f} s{extra}")
+                    cells.append(f"{s['median_cpu_seconds']:.2f} s{extra}")
                 else:
                     cells.append(s["status"])
             L.append(f"| {name} | " + " | ".join(cells) + " |")
-        L.append("\nMedian seconds of the simplifier's call (repetitions: 3 below 200 k "
+        L.append("\nMedian CPU seconds of the simplifier's call (repetitions: 3 below 200 k "
                  "triangles, 1 above); ddsimp at α = 0.5. ![time against size](time-vs-size.png)\n")
 
     L.append("## Plots and images\n")
@@ -353,7 +354,7 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
     for surface in surfaces:
         rs = [r for r in rows if r["surface"] == surface]
         L.append(f"### {surface} ({fmt(rs[0]['triangles_in'])} triangles)\n")
-        L.append("| simplifier | keep | status | triangles | s | peak MB | geo RMS | Hausdorff | "
+        L.append("| simplifier | keep | status | triangles | CPU s | peak MB | geo RMS | Hausdorff | "
                  "data RMS | data max | topology |")
         L.append("|---|---|---|---|---|---|---|---|---|---|---|")
         for r in rs:
@@ -364,7 +365,7 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
                     f"nm {r['nonmanifold_edges_in']}→{r['nonmanifold_edges_out']}")
             status = r["status"] + (f": {r['message']}" if r["message"] else "")
             L.append(f"| {label(r)} | {r['keep']:g} | {status[:120]} | {fmt(r['triangles_out'])} | "
-                     f"{fmt(r['seconds'], 3)} | {fmt(r['peak_rss_mb'], 4)} | "
+                     f"{fmt(r['cpu_seconds'], 3)} | {fmt(r['peak_rss_mb'], 4)} | "
                      f"{fmt(r['geometric_rms'], 3)} | {fmt(r['geometric_hausdorff'], 3)} | "
                      f"{fmt(r['data_rms'], 3)} | {fmt(r['data_max'], 3)} | {topo} |")
         L.append("")
@@ -460,16 +461,16 @@ def main():
             runs.append(r)
             if r.get("status") not in ("ok", "not reached") or r.get("triangles_in", 0) > 200_000:
                 break
-        times = sorted(r["seconds"] for r in runs if "seconds" in r)
+        times = sorted(r["cpu_seconds"] for r in runs if "cpu_seconds" in r)
         last = runs[-1]
         s = {"surface": os.path.basename(path)[:-4], "simplifier": simplifier,
              "alpha": "" if alpha is None else alpha,
              "triangles_in": last.get("triangles_in"), "target": last.get("target"),
              "triangles_out": last.get("triangles_out"), "status": last.get("status"),
              "message": last.get("message", ""), "repetitions": len(times),
-             "median_seconds": times[len(times) // 2] if times else None,
+             "median_cpu_seconds": times[len(times) // 2] if times else None,
              "peak_rss_mb": last["peak_rss_bytes"] / 2**20 if "peak_rss_bytes" in last else None}
-        print(f"scaling {s['surface']} {simplifier}: {s['status']} {s['median_seconds']}",
+        print(f"scaling {s['surface']} {simplifier}: {s['status']} {s['median_cpu_seconds']}",
               file=sys.stderr, flush=True)
         return s
 
