@@ -65,7 +65,8 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         const double nn = dot(normal, normal);
         if (!(nn > 0)) continue; // no plane, no gradient
         const double area = 0.5 * std::sqrt(nn);
-        std::fill(face.begin(), face.end(), 0.0);
+        // The terms that are summed into; the per-component G and D below are assigned.
+        for (size_t i = 0; i < 11; ++i) face[i] = 0.0;
         const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
         if (alpha > 0) add_plane(face.data(), unit, -dot(unit, x0), alpha * area);
         const double w = (1 - alpha) * area;

@@ -59,26 +59,6 @@ std::vector<uint32_t> locality_order(const Surface& s) {
     return order;
 }
 
-// The surface with its vertices in `order` (input ids by internal id), triangles unchanged.
-Surface reordered(const Surface& s, const std::vector<uint32_t>& order,
-                  const std::vector<uint32_t>& rank) {
-    Surface r;
-    const size_t n = order.size();
-    r.positions.resize(3 * n);
-    for (size_t v = 0; v < n; ++v)
-        std::copy_n(&s.positions[3 * size_t(order[v])], 3, &r.positions[3 * v]);
-    for (const Field& f : s.fields) {
-        Field g{f.name, f.components, {}};
-        const size_t nc = size_t(f.components);
-        g.values.resize(n * nc);
-        for (size_t v = 0; v < n; ++v) std::copy_n(&f.values[order[v] * nc], nc, &g.values[v * nc]);
-        r.fields.push_back(std::move(g));
-    }
-    r.triangles.resize(s.triangles.size());
-    for (size_t i = 0; i < s.triangles.size(); ++i) r.triangles[i] = rank[s.triangles[i]];
-    return r;
-}
-
 } // namespace
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
@@ -100,7 +80,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
     }
     mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
-    mesh_.build(reordered(surface, id_, rank_), capacity, limits_from(options));
+    mesh_.build(surface, capacity, limits_from(options), id_, rank_);  // in locality order
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
     // Edge collapse's ids are half-edges, vertex removal's vertices.
     const size_t ids = collapse ? surface.triangles.size() : capacity;

@@ -7,23 +7,31 @@
 
 namespace ddsimp::detail {
 
-void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim) {
+void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
+                        const std::vector<uint32_t>& order, const std::vector<uint32_t>& rank) {
     limits = lim;
     vertex_count = s.vertex_count();
     stride = 0;
     for (const Field& f : s.fields) stride += size_t(f.components);
     record = 6 + stride;
     records.assign(record * capacity, 0.0f);
+    const bool reorder = !order.empty();
     for (uint32_t v = 0; v < vertex_count; ++v) {
-        std::copy_n(&s.positions[3 * size_t(v)], 3, position_of(v));
+        const size_t u = reorder ? order[v] : v;
+        std::copy_n(&s.positions[3 * u], 3, position_of(v));
         float* d = data_of(v);
         for (const Field& f : s.fields)
             for (int c = 0; c < f.components; ++c)
-                *d++ = f.values[v * size_t(f.components) + size_t(c)];
+                *d++ = f.values[u * size_t(f.components) + size_t(c)];
     }
 
     const size_t halfedges = s.triangles.size();
-    origin.assign(s.triangles.begin(), s.triangles.end());
+    if (reorder) {
+        origin.resize(halfedges);
+        for (size_t h = 0; h < halfedges; ++h) origin[h] = rank[s.triangles[h]];
+    } else {
+        origin.assign(s.triangles.begin(), s.triangles.end());
+    }
     twin.assign(halfedges, kNone);
     line.assign(halfedges, 0);
     angle.assign(track_angles ? halfedges : 0, 0.0f);

@@ -88,8 +88,11 @@ struct WorkingMesh {
     bool track_angles = true;
 
     // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
-    // `capacity` is the number of vertex slots to reserve.
-    void build(const Surface& surface, size_t capacity, const Limits& limits);
+    // `capacity` is the number of vertex slots to reserve. With `order` and `rank` (each the
+    // other's inverse) vertex v is the surface's vertex order[v] and a triangle's index i becomes
+    // rank[i], read in place rather than from a reordered copy; empty: the surface's ids.
+    void build(const Surface& surface, size_t capacity, const Limits& limits,
+               const std::vector<uint32_t>& order = {}, const std::vector<uint32_t>& rank = {});
 
     float* position_of(uint32_t v) { return &records[size_t(v) * record]; }
     const float* position_of(uint32_t v) const { return &records[size_t(v) * record]; }
