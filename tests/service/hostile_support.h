@@ -172,17 +172,6 @@ constexpr size_t kConnectionOverhead = 64u << 10;
 // its meta map; AddressSanitizer's shadow, 1/8 of it, and the quarantine that holds freed blocks
 // (256 MiB by default). Under a sanitizer an allowance grows by that much, so the run still
 // catches memory that grows without bound.
-#if defined(__SANITIZE_THREAD__)
-#define DDSIMP_TEST_TSAN 1
-#elif defined(__SANITIZE_ADDRESS__)
-#define DDSIMP_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define DDSIMP_TEST_TSAN 1
-#elif __has_feature(address_sanitizer)
-#define DDSIMP_TEST_ASAN 1
-#endif
-#endif
 constexpr size_t with_sanitizer_memory(size_t allowance) {
 #if defined(DDSIMP_TEST_TSAN)
     return 5 * allowance;

@@ -21,7 +21,32 @@
 #include <unistd.h>
 #include <vector>
 
+// Which sanitizer the tests are built with (DDSIMP_TEST_TSAN, DDSIMP_TEST_ASAN), if any.
+#if defined(__SANITIZE_THREAD__)
+#define DDSIMP_TEST_TSAN 1
+#elif defined(__SANITIZE_ADDRESS__)
+#define DDSIMP_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define DDSIMP_TEST_TSAN 1
+#elif __has_feature(address_sanitizer)
+#define DDSIMP_TEST_ASAN 1
+#endif
+#endif
+
 namespace ddsimp::test {
+
+// How long a test waits for the server's next answer before calling it lost. A sanitizer slows
+// the server (ThreadSanitizer 5-15x, AddressSanitizer 2-3x) while other tests share the cores, and
+// a lost answer would fail the test, so the wait grows with it (within ctest's 300 s per test); it
+// bounds a hang and times nothing.
+#if defined(DDSIMP_TEST_TSAN)
+inline constexpr std::chrono::seconds kAnswerTimeout{240};
+#elif defined(DDSIMP_TEST_ASAN)
+inline constexpr std::chrono::seconds kAnswerTimeout{180};
+#else
+inline constexpr std::chrono::seconds kAnswerTimeout{60};
+#endif
 
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
@@ -207,8 +232,7 @@ public:
     template <class M> void send(const M& m) { send_bytes(protocol::encode_frame(m)); }
 
     // The next frame, or nothing if the connection closed or nothing came within the timeout.
-    std::optional<protocol::Frame>
-    next(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    std::optional<protocol::Frame> next(std::chrono::milliseconds timeout = kAnswerTimeout) {
         const auto deadline = std::chrono::steady_clock::now() + timeout;
         for (;;) {
             if (auto f = decoder_.next()) return f;
@@ -231,7 +255,7 @@ public:
     }
 
     // The next frame of type M, skipping others (pongs, session states) unless strict.
-    template <class M> M expect(std::chrono::milliseconds timeout = std::chrono::seconds(60)) {
+    template <class M> M expect(std::chrono::milliseconds timeout = kAnswerTimeout) {
         for (;;) {
             auto f = next(timeout);
             if (!f)
