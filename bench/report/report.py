@@ -261,8 +261,8 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              "target within 2% and reported no error); the others are listed, not hidden.\n")
     if RUNS["reused"]:
         L.append(f"{RUNS['reused']} of {RUNS['all']} results were read from the cache of earlier "
-                 "invocations (`--resume`, `OUT/runs`), which the time above does not include; the "
-                 "notes below, if any, say where they came from.\n")
+                 "invocations (`--resume`, `OUT/runs`); the time above is the sum over the invocations "
+                 "that used this cache. The notes below, if any, say where the results came from.\n")
     if baseline is not None or notes:
         L.append("## What changed in the library, and what it gained\n")
         if notes:
