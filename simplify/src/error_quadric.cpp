@@ -47,7 +47,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     inv_diagonal = diagonal > 0 ? 1 / diagonal : 0;
     centre = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     components = inv_diagonal > 0 ? m_all : 0;
-    size = 11 + 4 * components;
+    size = kSharedTerms + 4 * components;
     values.assign(capacity * size, 0.0);
     if (inv_diagonal == 0) return; // a single point: nothing can move
 
@@ -66,7 +66,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         if (!(nn > 0)) continue; // no plane, no gradient
         const double area = 0.5 * std::sqrt(nn);
         // The terms that are summed into; the per-component G and D below are assigned.
-        for (size_t i = 0; i < 11; ++i) face[i] = 0.0;
+        std::fill_n(face.begin(), kSharedTerms, 0.0);
         const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
         if (alpha > 0) add_plane(face.data(), unit, -dot(unit, x0), alpha * area);
         const double w = (1 - alpha) * area;
@@ -82,9 +82,10 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
             double* q = face.data();
             q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];
             q[3] += w * g[1] * g[1], q[4] += w * g[1] * g[2], q[5] += w * g[2] * g[2];
-            for (int k = 0; k < 3; ++k) q[6 + k] += w * d * g[k], q[11 + 4 * j + k] = w * g[k];
+            for (int k = 0; k < 3; ++k)
+                q[6 + k] += w * d * g[k], q[kSharedTerms + 4 * j + k] = w * g[k];
             q[9] += w * d * d;
-            q[14 + 4 * j] = w * d;
+            q[kSharedTerms + 3 + 4 * j] = w * d;
         }
         for (uint32_t c : v)
             for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
@@ -146,7 +147,7 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
     for (size_t j = 0; j < components; ++j) {
         const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
         const double sa = (a - low[j]) * inv_range[j], ds = (b - a) * inv_range[j];
-        const size_t gj = 11 + 4 * j;
+        const size_t gj = kSharedTerms + 4 * j;
         const Pair gx = dot_q(x, gj) + q(gj + 3), gd = dot_q(dx, gj);
         e0 += wt * sa * sa - 2 * sa * gx;
         h += wt * sa * ds - ds * gx - sa * gd;
@@ -180,7 +181,7 @@ double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32
         for (size_t i = 0; i < count; ++i)
             s += weight(i) * double(mesh.data_of(points[i])[offset[j]]);
         s = (s - low[j]) * inv_range[j];
-        const double* gj = q + 11 + 4 * j;
+        const double* gj = q + kSharedTerms + 4 * j;
         e += q[10] * s * s - 2 * s * (gj[0] * x[0] + gj[1] * x[1] + gj[2] * x[2] + gj[3]);
     }
     return std::max(0.0, e);
@@ -201,7 +202,7 @@ Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& 
             const double s =
                 ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
                 inv_range[j];
-            const double* gj = q + 11 + 4 * j;
+            const double* gj = q + kSharedTerms + 4 * j;
             g = sub(g, scale(Vec3{gj[0], gj[1], gj[2]}, s));
         }
     }

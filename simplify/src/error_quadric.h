@@ -41,8 +41,10 @@ struct SegmentError {
 };
 
 struct ErrorQuadrics {
-    size_t components = 0; // m
-    size_t size = 11;      // numbers per vertex
+    // A (6), b (3), c and W, which every data component shares; its G (3) and D follow.
+    static constexpr size_t kSharedTerms = 11;
+    size_t components = 0;      // m
+    size_t size = kSharedTerms; // numbers per vertex
     std::vector<double> values;
     // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
     Vec3 centre{0, 0, 0};
