@@ -511,10 +511,20 @@ struct Client::Impl {
         deliver({SessionEvent::Kind::Error, {}, {}, error.what(), error.code()});
     }
 
+    // Whether `state` answers `op`: the change this client asked for. Another member's change
+    // (a join just before ours, say) may still be on its way to us when we ask.
+    bool answers(const ControlOp& op, const SessionState& state) const {
+        if (!op.state || op.session != state.name) return false;
+        if (state.changed_by == 0) return true; // a server from before `changed_by`
+        const bool joined = state.cause == "created" || state.cause == "joined";
+        return state.changed_by == my_client_id &&
+               (op.kind == ControlOp::Kind::Join ? joined : state.cause == "view");
+    }
+
     void on_session_state(const v1::SessionState& message) {
         SessionState state = from_wire(message);
         for (auto op = control.begin(); op != control.end(); ++op)
-            if (op->state && op->session == state.name) {
+            if (answers(*op, state)) {
                 op->state->set_value(state);
                 control.erase(op);
                 break;

@@ -161,6 +161,7 @@ SessionState from_wire(const v1::SessionState& state) {
     out.view = {state.view().surface(), state.view().alpha(), state.view().keep(),
                 state.view().field(), from_wire(state.view().strategy())};
     out.cause = state.cause();
+    out.changed_by = state.changed_by();
     return out;
 }
 

@@ -409,8 +409,8 @@ void Service::remember_result(const std::string& key, const ReductionParams& par
 
 // ----- sessions -----
 
-void Service::broadcast(const Session& s, const std::string& cause) {
-    const std::string frame = protocol::encode_frame(s.state(cause));
+void Service::broadcast(const Session& s, const std::string& cause, uint64_t changed_by) {
+    const std::string frame = protocol::encode_frame(s.state(cause, changed_by));
     for (const v1::Member& m : s.members)
         if (auto c = find(m.client_id())) c->send_frame(frame);
 }
@@ -441,7 +441,7 @@ void Service::join(std::shared_ptr<Connection> c, const v1::JoinSession& join) {
                                  std::to_string(config_.max_sessions) + " sessions");
     c->sessions()[name] = scope;
     spdlog::info("client {} joined session \"{}\" ({} members)", c->id(), name, s->members.size());
-    broadcast(*s, created ? "created" : "joined");
+    broadcast(*s, created ? "created" : "joined", c->id());
     if (!s->view.surface().empty()) send_session_mesh(*s, {c->id()});
 }
 
@@ -453,7 +453,7 @@ void Service::leave(Connection& c, const std::string& name) {
     bool leader_changed = false;
     Session* s = sessions_.leave(scope, c.id(), &leader_changed);
     spdlog::info("client {} left session \"{}\"", c.id(), name);
-    if (s) broadcast(*s, leader_changed ? "leader-left" : "left");
+    if (s) broadcast(*s, leader_changed ? "leader-left" : "left", c.id());
 }
 
 void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change) {
@@ -492,7 +492,7 @@ void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState
     if (v.placement() != v1::PLACEMENT_UNSPECIFIED) s->view.set_placement(v.placement());
     s->leader = c->id();
     ++s->version;
-    broadcast(*s, "view");
+    broadcast(*s, "view", c->id());
     const bool mesh_changed =
         before.surface() != s->view.surface() || before.alpha() != s->view.alpha() ||
         before.keep() != s->view.keep() || before.strategy() != s->view.strategy() ||

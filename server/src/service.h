@@ -56,7 +56,7 @@ public:
     void stop();
 
 private:
-    void broadcast(const Session& s, const std::string& cause);
+    void broadcast(const Session& s, const std::string& cause, uint64_t changed_by);
     // Computes the session's current level and sends it to `targets` (ids), replacing any
     // unsent older mesh of the session in their queues.
     void send_session_mesh(const Session& s, std::vector<uint64_t> targets);

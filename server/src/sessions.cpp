@@ -4,7 +4,7 @@
 
 namespace ddsimp::server {
 
-v1::SessionState Session::state(const std::string& cause) const {
+v1::SessionState Session::state(const std::string& cause, uint64_t changed_by) const {
     v1::SessionState s;
     s.set_name(name);
     s.set_version(version);
@@ -12,6 +12,7 @@ v1::SessionState Session::state(const std::string& cause) const {
     s.set_leader(leader);
     *s.mutable_view() = view;
     s.set_cause(cause);
+    s.set_changed_by(changed_by);
     return s;
 }
 

@@ -22,7 +22,7 @@ struct Session {
     v1::View view;
     uint64_t view_version = 0; // changes of what the mesh depends on (not of members or field)
 
-    v1::SessionState state(const std::string& cause) const;
+    v1::SessionState state(const std::string& cause, uint64_t changed_by) const;
     bool has(uint64_t client) const;
 };
 

@@ -372,6 +372,7 @@ TEST(ClientFakePeer, BadRequestsAreRefusedBeforeSending) {
     EXPECT_EQ(error_from([&] { client.request(request); }).code(), ErrorCode::InvalidArgument);
 }
 
+// The states carry no changed_by, as from a server before it: each answers the waiting call.
 TEST(ClientFakePeer, SessionStateAndMeshArriveAsEvents) {
     const Surface mesh = test::tetrahedron();
     v1::SetSessionState set;
@@ -432,6 +433,54 @@ TEST(ClientFakePeer, SessionStateAndMeshArriveAsEvents) {
     EXPECT_EQ(events[2].mesh.encoding, Encoding::Meshopt);
     EXPECT_EQ(events[2].mesh.mesh.positions, mesh.positions);
     EXPECT_EQ(test::triangles_by_content(events[2].mesh.mesh), test::triangles_by_content(mesh));
+}
+
+// Another member's change can reach a client after it has asked for its own: set_view must return
+// the state its own change made, not whichever state of that session comes next.
+TEST(ClientFakePeer, SetViewReturnsItsOwnChangeNotAnotherMembersInFlight) {
+    FakeServer server([&](FakePeer& peer) {
+        peer.handshake();
+        peer.read_as<v1::JoinSession>();
+        v1::SessionState state;
+        state.set_name("room");
+        state.set_leader(42);
+        state.add_members()->set_client_id(42);
+        state.set_version(1);
+        state.set_cause("created");
+        state.set_changed_by(42);
+        peer.send(state);
+        peer.read_as<v1::SetSessionState>();
+        // Client 7 joined just before the change arrived at the server.
+        state.add_members()->set_client_id(7);
+        state.set_version(2);
+        state.set_cause("joined");
+        state.set_changed_by(7);
+        peer.send(state);
+        state.set_version(3);
+        state.set_cause("view");
+        state.set_changed_by(42);
+        state.mutable_view()->set_keep(0.25f);
+        peer.send(state);
+    });
+    Client client;
+    client.connect(local(server.port()));
+    EXPECT_EQ(client.join_session("room").version, 1u);
+    ViewChange change;
+    change.keep = 0.25;
+    const SessionState changed = client.set_view("room", change);
+    EXPECT_EQ(changed.version, 3u);
+    EXPECT_EQ(changed.cause, "view");
+    EXPECT_EQ(changed.changed_by, 42u);
+    EXPECT_EQ(changed.members.size(), 2u);
+    // The other member's state is still an event, between the two of this client's.
+    std::vector<uint64_t> versions;
+    while (versions.size() < 3) {
+        auto e = client.next_session_event(std::chrono::seconds(20));
+        ASSERT_TRUE(e);
+        versions.push_back(e->state.version);
+    }
+    server.wait();
+    EXPECT_EQ(versions, (std::vector<uint64_t>{1, 2, 3}));
 }
 
 TEST(ClientFakePeer, ALostConnectionFailsWhatIsPending) {

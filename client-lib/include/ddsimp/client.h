@@ -213,7 +213,8 @@ struct SessionState {
     std::vector<Member> members;
     uint64_t leader = 0; // a member's client_id
     View view;
-    std::string cause; // "created", "joined", "left", "leader-left", "view"
+    std::string cause;       // "created", "joined", "left", "leader-left", "view"
+    uint64_t changed_by = 0; // the client whose join, view change or leaving made this change
 };
 
 // What to change in a session's view; unset parts stay as they are.
