@@ -17,6 +17,16 @@ constexpr double kMaxSideways = 0.5;
 bool on_line(VertexKind k) {
     return k == VertexKind::Line || k == VertexKind::Corner;
 }
+
+// Whether a fan's ring (WorkingMesh::ring: consecutive neighbours span a triangle; `closed`: the
+// last and the first too) has a triangle on vertices p and q.
+bool spans(const uint32_t* ring, size_t n, bool closed, uint32_t p, uint32_t q) {
+    for (size_t i = 0; i + 1 < n + (closed ? 1 : 0); ++i) {
+        const uint32_t u = ring[i], w = ring[(i + 1) % n];
+        if ((u == p && w == q) || (u == q && w == p)) return true;
+    }
+    return false;
+}
 } // namespace
 
 bool Simplifier::kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const {
@@ -115,11 +125,11 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
                 }
     }
     if (common != (y == kNone ? 1u : 2u)) return false;
-    // An inner apex of valence 3 would be left with two triangles on the same three vertices.
-    for (uint32_t apex : {x, y})
-        if (apex != kNone && mesh_.kind[apex] != VertexKind::Complex &&
-            !mesh_.is_boundary_vertex(apex) && mesh_.valence[apex] == 3)
-            return false;
+    // If both ends have a triangle on the two apexes, those two would become the same triangle:
+    // an apex of valence 3, or a tetrahedron hanging on a non-manifold edge x-y.
+    if (y != kNone && spans(ring_a, na, !mesh_.is_boundary_vertex(a), x, y) &&
+        spans(ring_b, nb, !mesh_.is_boundary_vertex(b), x, y))
+        return false;
 
     if (!placed) place(h, plan);
     // No remaining triangle may flip, fold or turn its normal by more than the limit.
@@ -148,7 +158,14 @@ bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref) const 
     const Vec3 qp = sub(q, p), rp = sub(r, p);
     if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp))) return false;
     if (lb > 0 && dot(after, before) < mesh_.limits.normal_turn_cos * la * lb) return false;
-    // It faced the way of the input surface and would no longer.
+    // It faced the way of the input surface and would no longer: at each corner, or, once
+    // nothing is removable so (relaxed_facing_), on the sum of its corners' reference normals.
+    if (relaxed_facing_) {
+        const double lr = norm(ref); // the new vertex's reference, as apply_collapse sets it
+        const Vec3 sum = add(lr > 0 ? scale(ref, 1 / lr) : ref,
+                             add(mesh_.reference_normal(qi), mesh_.reference_normal(ri)));
+        return dot(after, sum) > 0 || dot(before, sum) <= 0;
+    }
     if ((dot(after, ref) <= 0 || !mesh_.faces_along(after, qi, ri)) &&
         mesh_.faces_along(before, v, qi, ri))
         return false;

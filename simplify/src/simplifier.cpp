@@ -277,7 +277,16 @@ ProgressiveRecord Simplifier::run() {
             if (mesh_.live_triangles <= target) return StopReason::TargetReached;
             size_t share = 0;
             rank_candidates(share);
-            if (share == 0) return StopReason::NothingRemovable;
+            if (share == 0) {
+                // Edge collapse's last resort: a triangle need only face along its corners'
+                // reference normals together, and every refused edge is tried again.
+                if (options_.strategy != Strategy::EdgeCollapse || relaxed_facing_)
+                    return StopReason::NothingRemovable;
+                relaxed_facing_ = true;
+                std::fill(fail_.begin(), fail_.end(), 0);
+                std::fill(fail_at_.begin(), fail_at_.end(), kNone);
+                continue;
+            }
             if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
             ++pass_;
             for (size_t i = 0; i < share; ++i) {

@@ -148,6 +148,9 @@ private:
     // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
     // (kNone: another check refused it); plan_collapse tests it first.
     std::vector<uint32_t> fail_at_;
+    // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
+    // sum of its corners' reference normals instead of each (see run()).
+    bool relaxed_facing_ = false;
     // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
     // where a collapse moves a vertex rather than recomputed for every key.
     std::vector<float> length_;

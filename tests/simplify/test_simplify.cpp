@@ -356,6 +356,7 @@ std::vector<Builder> builders() {
         {"Fin", fin, false, false},
         {"CornerTouchingGrids", [] { return corner_touching_grids(8); }, true, false},
         {"FinOnGrid", [] { return fin_on_grid(12); }, true, false},
+        {"TetrahedronOnGrid", [] { return tetrahedron_on_grid(12); }, true, false},
         {"Moebius", [] { return moebius(40); }, false, false},
     };
 }

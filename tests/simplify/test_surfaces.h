@@ -378,6 +378,24 @@ inline Surface fin_on_grid(int n) {
     return s;
 }
 
+// An n x n grid with a closed tetrahedron x, y, a, b standing on its interior edge
+// x = (n/2, n/2), y = (n/2+1, n/2): that edge has four triangles (1 non-manifold edge, x and y
+// non-manifold). a and b have valence 3 and share exactly x and y as neighbours, so collapsing
+// a-b passes the link condition but would fold the tetrahedron into two triangles on x, y and
+// the new point. Euler 2 (two more vertices, five more edges, four more triangles).
+inline Surface tetrahedron_on_grid(int n) {
+    Surface s = grid(n, n);
+    const int i = n / 2, j = n / 2;
+    const uint32_t x = grid_index(n, i, j), y = grid_index(n, i + 1, j);
+    const uint32_t a = add_vertex(s, double(i) / n, (j - 0.25) / n, 1.0 / n);
+    const uint32_t b = add_vertex(s, (i - 0.026) / n, (j + 0.114) / n, 1.143 / n);
+    add_triangle(s, x, y, a);
+    add_triangle(s, y, x, b);
+    add_triangle(s, x, a, b);
+    add_triangle(s, y, b, a);
+    return s;
+}
+
 // Two n x n grids, [0,1]^2 and [-1,0]^2, sharing only the vertex at the origin (index 0):
 // 1 non-manifold vertex, 2 components, Euler 2*1 - 1 = 1.
 inline Surface corner_touching_grids(int n) {

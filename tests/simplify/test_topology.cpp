@@ -80,6 +80,10 @@ std::vector<Expected> expectations() {
         // 4x4 grid (25, 56, 32, boundary 16) + apex, 2 edges, 1 triangle on an interior edge: the
         // two new edges are boundary edges
         {"FinOnGrid", [] { return fin_on_grid(4); }, 26, 58, 33, 18, 1, 2, -1, 1, 1},
+        // 4x4 grid + a tetrahedron on an interior edge: 2 vertices, 5 edges (all inner) and 4
+        // triangles more; that edge has 4 triangles
+        {"TetrahedronOnGrid", [] { return tetrahedron_on_grid(4); }, 27, 61, 36, 16, 1, 2, -1, 1,
+         2},
         // two 3x3 grids (16, 33, 18, boundary 12 each) sharing one vertex
         {"CornerTouchingGrids", [] { return corner_touching_grids(3); }, 31, 66, 36, 24, 0, 1, -1,
          2, 1},

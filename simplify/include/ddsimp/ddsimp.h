@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 3;
+inline constexpr int algorithm_version = 4;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -177,7 +177,8 @@ struct Options {
     double line_tolerance = 20.0;
     // Largest allowed turn (degrees) of any remaining triangle's normal in one operation; larger
     // turns are refused as folds. (Independently, no operation may leave a triangle facing away
-    // from the input surface's normal at its corners, so turns cannot add up to a flip.)
+    // from the input surface's normal at its corners, so turns cannot add up to a flip; once
+    // nothing else is removable, edge collapse asks this of the corners' normals together.)
     double max_normal_turn = 60.0;
 
     // Locked vertices: empty means none, else one entry per input vertex; a non-zero entry
