@@ -179,6 +179,8 @@ TEST_F(ClientServer, TwoWatchersBothReceiveTheLeadersChange) {
     change.alpha = 0.25;
     change.keep = 0.25;
     const SessionState state = leader.set_view("room", change);
+    EXPECT_EQ(state.cause, "view");
+    EXPECT_EQ(state.changed_by, leader.client_id());
     EXPECT_EQ(state.leader, leader.client_id());
     EXPECT_EQ(state.members.size(), 3u);
     const Surface expected = offline(input, 0.25, 0.25);
@@ -188,6 +190,7 @@ TEST_F(ClientServer, TwoWatchersBothReceiveTheLeadersChange) {
         });
         EXPECT_EQ(s.state.view.surface, surface);
         EXPECT_EQ(s.state.leader, leader.client_id());
+        EXPECT_EQ(s.state.changed_by, leader.client_id());
         const SessionEvent m = wait_for(*watcher, is_mesh);
         EXPECT_EQ(m.mesh.session, "room");
         EXPECT_EQ(test::triangles_by_content(m.mesh.mesh), test::triangles_by_content(expected));
@@ -198,6 +201,7 @@ TEST_F(ClientServer, LeadershipPassesOnWhenTheLeaderDisconnects) {
     Client first, second, third;
     for (Client* c : {&first, &second, &third}) c->connect(local(server_.port));
     EXPECT_EQ(first.join_session("hall").leader, first.client_id());
+    const uint64_t first_id = first.client_id();
     second.join_session("hall");
     third.join_session("hall");
     first.close();
@@ -206,6 +210,7 @@ TEST_F(ClientServer, LeadershipPassesOnWhenTheLeaderDisconnects) {
     });
     // The longest-present member leads.
     EXPECT_EQ(e.state.leader, second.client_id());
+    EXPECT_EQ(e.state.changed_by, first_id); // the one that left
     EXPECT_EQ(e.state.members.size(), 2u);
 }
 
