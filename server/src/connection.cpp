@@ -46,8 +46,12 @@ void Connection::arm_idle_timer() {
     idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
         auto self = weak.lock();
         if (ec || !self) return;
-        // Waiting for its own request is not idleness: a long simplification sends nothing.
-        if (!self->active_requests_.empty()) return self->arm_idle_timer();
+        // Waiting for its own request or upload, or being sent something, is not idleness: a
+        // long simplification or storing a large surface sends nothing, and a client that stops
+        // reading is dropped by the send timeout instead.
+        if (!self->active_requests_.empty() || self->storing_uploads_ > 0 || self->writing_ ||
+            !self->queue_.empty())
+            return self->arm_idle_timer();
         self->drop("idle for the idle timeout");
     });
 }

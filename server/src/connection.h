@@ -45,6 +45,9 @@ public:
     void begin_request(uint64_t request_id) { active_requests_.insert(request_id); }
     bool request_active(uint64_t request_id) const { return active_requests_.count(request_id); }
     void end_request(uint64_t request_id) { active_requests_.erase(request_id); }
+    // An upload being checked and stored: its client waits for the UploadResult.
+    void begin_storing() { ++storing_uploads_; }
+    void end_storing() { --storing_uploads_; }
 
     // TransportHandler
     void on_frame(protocol::Frame frame) override;
@@ -84,6 +87,7 @@ private:
     int64_t accounted_queue_bytes_ = 0;
     std::map<uint64_t, Upload> uploads_;
     std::set<uint64_t> active_requests_;
+    size_t storing_uploads_ = 0;
     std::map<std::string, std::string> sessions_;
     boost::asio::steady_timer idle_timer_;
 };

@@ -165,6 +165,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
         }
         scope = it->second;
     }
+    c->begin_storing();
     asio::post(compute(), [this, c, scope, begin = std::move(begin), bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
@@ -207,6 +208,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
         }
         error.set_request_id(id);
         asio::post(io_, [this, c, begin, result = std::move(result), error = std::move(error)] {
+            c->end_storing();
             release_upload_bytes(begin.total_bytes());
             if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
             c->send(result);
