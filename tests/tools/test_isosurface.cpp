@@ -17,6 +17,14 @@ void expect_near_count(size_t actual, size_t expected) {
     EXPECT_NEAR(double(actual), double(expected), 0.01 * double(expected));
 }
 
+// The carotid volume's "scalars" isosurface at `value`.
+io::IsosurfaceOptions carotid_scalars(double value) {
+    io::IsosurfaceOptions options;
+    options.field = "scalars";
+    options.value = value;
+    return options;
+}
+
 std::pair<float, float> range_of(const Field& f) {
     const auto [lo, hi] = std::minmax_element(f.values.begin(), f.values.end());
     return {*lo, *hi};
@@ -62,10 +70,7 @@ TEST(Isosurface, CarryChoosesAndOrdersFields) {
 TEST(Isosurface, EveryTriangleIsProperAndEveryVertexUsed) {
     const std::string path = shared_data("volumes/carotid.vtk");
     DDSIMP_REQUIRE_SHARED(path);
-    io::IsosurfaceOptions options;
-    options.field = "scalars";
-    options.value = 175;
-    Surface s = io::extract_isosurface(path, options);
+    Surface s = io::extract_isosurface(path, carotid_scalars(175));
     expect_near_count(s.triangle_count(), 13838);
     const RepairReport repairs = validate(s);
     EXPECT_EQ(repairs.degenerate_triangles_dropped, 0u);
@@ -77,9 +82,7 @@ TEST(Isosurface, EveryTriangleIsProperAndEveryVertexUsed) {
 TEST(Isosurface, ResampleTwiceGivesAboutFourTimesTheTriangles) {
     const std::string path = shared_data("volumes/carotid.vtk");
     DDSIMP_REQUIRE_SHARED(path);
-    io::IsosurfaceOptions options;
-    options.field = "scalars";
-    options.value = 127; // large surfaces; merged points repeat triangles here
+    io::IsosurfaceOptions options = carotid_scalars(127); // merged points repeat triangles here
     const size_t plain = io::extract_isosurface(path, options).triangle_count();
     options.resample = 2;
     const Surface fine = io::extract_isosurface(path, options);
@@ -100,10 +103,7 @@ TEST(Isosurface, ResampleTwiceGivesAboutFourTimesTheTriangles) {
 TEST(Isosurface, CarotidAt127ReducesToTenPercentByEdgeCollapseWithItsTopology) {
     const std::string path = shared_data("volumes/carotid.vtk");
     DDSIMP_REQUIRE_SHARED(path);
-    io::IsosurfaceOptions iso;
-    iso.field = "scalars";
-    iso.value = 127;
-    Surface input = io::extract_isosurface(path, iso);
+    Surface input = io::extract_isosurface(path, carotid_scalars(127));
     validate(input);
     const Topology before = analyze_topology(input);
     ASSERT_GT(before.nonmanifold_edges, 0u);
