@@ -288,10 +288,12 @@ ProgressiveRecord Simplifier::run() {
                 continue;
             }
             if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
+            if (options_.strategy == Strategy::EdgeCollapse)
+                detail::runs_in_id_order(order_, share, kPassRuns);
             ++pass_;
             for (size_t i = 0; i < share; ++i) {
                 const detail::Candidate c = order_[i];
-                if (c.weight() > options_.max_weight) break;
+                if (c.weight() > options_.max_weight) continue; // heavier ones may follow
                 const size_t before = operations_;
                 if (options_.strategy == Strategy::EdgeCollapse)
                     step_collapse(c.id);

@@ -53,6 +53,9 @@ private:
 
     // The share of a pass's candidates, lightest first, that the pass goes through.
     static constexpr double kPassShare = 0.25;
+    // Edge collapse goes through that share in this many runs of equal count, lightest run
+    // first, each in id order (see runs_in_id_order); vertex removal in key order.
+    static constexpr size_t kPassRuns = 8;
 
     // simplifier.cpp: weights, passes, the main loop.
     // Re-classifies v and recomputes its weight (and, for vertex removal, its key's tie-break).
