@@ -30,8 +30,13 @@ using tcp = asio::ip::tcp;
 
 namespace {
 
+// The exception a caller receives, with a message of its own: a copy of a std::runtime_error
+// shares its message's buffer, reference-counted inside libstdc++ (which TSan cannot see), so the
+// network thread, dropping its error after the caller had read the message, freed the buffer as
+// its last owner, which TSan reported as a race. Now only the exception owns it.
 std::exception_ptr as_exception(const ClientError& error) {
-    return std::make_exception_ptr(error);
+    return std::make_exception_ptr(
+        ClientError(error.code(), std::string(error.what()), error.request_id()));
 }
 
 // A level's blob as it arrives in chunks.
