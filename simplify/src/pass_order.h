@@ -97,14 +97,14 @@ inline void lightest_sorted(std::vector<Candidate>& items, size_t count,
     sort_candidates(out, items);
 }
 
-// The first `share` items of `order` (sorted by key) cut into `bands` runs of equal count, each run
+// The first `share` items of `order` (sorted by key) cut into `runs` runs of equal count, each
 // re-sorted by id: a pass still goes from the lighter candidates to the heavier, run by run, but
 // within a run in id order, which follows the mesh, so that one operation finds the memory of the
 // last still in the cache.
-inline void runs_in_id_order(std::vector<Candidate>& order, size_t share, size_t bands) {
-    for (size_t b = 0; b < bands; ++b)
-        std::sort(order.begin() + std::ptrdiff_t(share * b / bands),
-                  order.begin() + std::ptrdiff_t(share * (b + 1) / bands),
+inline void runs_in_id_order(std::vector<Candidate>& order, size_t share, size_t runs) {
+    for (size_t r = 0; r < runs; ++r)
+        std::sort(order.begin() + std::ptrdiff_t(share * r / runs),
+                  order.begin() + std::ptrdiff_t(share * (r + 1) / runs),
                   [](const Candidate& x, const Candidate& y) { return x.id < y.id; });
 }
 
