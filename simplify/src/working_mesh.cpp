@@ -107,18 +107,23 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     }
 
     // Feature edges from the dihedral angle between twin triangles (none when the limit is
-    // below every cosine: feature angle 180, the default).
-    std::vector<Vec3> normal(limits.feature_cos >= -1 ? s.triangle_count() : 0);
+    // below every cosine: feature angle 180, the default), and folds of the input (see
+    // kFoldCos): their vertices are locked.
+    std::vector<Vec3> normal(s.triangle_count());
     for (uint32_t t = 0; t < normal.size(); ++t) {
         Vec3 n = triangle_normal(t);
         const double len = norm(n);
         normal[t] = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
     }
-    for (uint32_t h = 0; h < halfedges && !normal.empty(); ++h) {
+    for (uint32_t h = 0; h < halfedges; ++h) {
         const uint32_t t = twin[h];
         if (t == kNone) continue;
         const Vec3 &n0 = normal[h / 3], &n1 = normal[t / 3];
         if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n0, n1) < limits.feature_cos) line[h] = 1;
+        if (dot(n0, n1) < kFoldCos) {
+            if (locked.empty()) locked.assign(capacity, 0);
+            locked[origin[h]] = locked[dest(h)] = 1;
+        }
     }
 
     // Each vertex's fan must cover all its triangles and have at most one boundary gap.

@@ -19,6 +19,11 @@ namespace ddsimp::detail {
 inline constexpr uint32_t kNone = 0xffffffffu;
 // Rounds of neighbour averaging that turn vertex normals into reference normals.
 inline constexpr int kReferenceSmoothing = 4;
+// Two neighbouring triangles whose normals are more than 170 degrees apart: the surface folds
+// back over itself there (a cutting plane through a mesh's overlapping cells makes these). The
+// error quadrics hardly see what moving such a fold costs, since its two sides lie in nearly one
+// plane, yet it uncovers part of the surface; so the fold's vertices are locked.
+inline constexpr double kFoldCos = -0.98480775301220802; // cos(170 degrees)
 
 inline uint32_t next(uint32_t h) {
     return h % 3 == 2 ? h - 2 : h + 1;
@@ -70,8 +75,9 @@ struct WorkingMesh {
     std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
     std::vector<VertexKind> kind;
     std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
-    // Options::locked by vertex slot (empty: none); classify makes a locked vertex a Corner, and
-    // a collapse into a locked vertex passes the lock on to the slot of the new vertex.
+    // Options::locked by vertex slot, and the vertices of the input's folds (see kFoldCos);
+    // empty: none. classify makes a locked vertex a Corner, and a collapse into a locked vertex
+    // passes the lock on to the slot of the new vertex.
     std::vector<uint8_t> locked;
     size_t vertex_count = 0; // vertices in use (ids below this)
 

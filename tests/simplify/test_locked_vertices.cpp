@@ -1,5 +1,6 @@
 // Options::locked: a locked vertex stays in the output with the same position and the same data
-// (bit for bit), whatever the strategy; a wrong-length lock list is rejected.
+// (bit for bit), whatever the strategy; so do the vertices of the input's folds; a wrong-length
+// lock list is rejected.
 #include "test_surfaces.h"
 
 #include <cstring>
@@ -100,6 +101,30 @@ TEST_P(LockedVertices, StraightBoundaryVertexStays) {
     Options free = options();
     free.keep_fraction = 0;
     EXPECT_EQ(count_exact(simplify(in, free).surface, vertex_record(in, grid_index(10, 5, 0))), 0u);
+}
+
+// Where the input folds back over itself (neighbouring triangles facing opposite ways), the
+// fold's vertices are locked without being asked. Grid 10 x 10 in z = 0 with vertex (5, 5)
+// moved from x = 0.5 to `x`: beyond the line (6,5)-(6,6) at x = 0.6 two of its triangles face
+// down, folded over their neighbours in the same plane.
+Surface grid_with_vertex_moved_to(double x) {
+    Surface s = with_test_fields(grid(10, 10));
+    s.positions[3 * grid_index(10, 5, 5)] = float(x);
+    return s;
+}
+
+TEST_P(LockedVertices, FoldOfTheInputStays) {
+    Options o = options();
+    o.keep_fraction = 0;
+    const Surface folded = grid_with_vertex_moved_to(0.65);
+    ASSERT_LT(triangle_normal(folded, 2 * (5 * 10 + 5))[2], 0); // cell (5, 5)'s first: folded
+    const Result r = simplify(folded, o);
+    EXPECT_EQ(count_exact(r.surface, vertex_record(folded, grid_index(10, 5, 5))), 1u);
+    EXPECT_TRUE(topology_kept(analyze_topology(folded), analyze_topology(r.surface)));
+    // Moved as far without a fold, the same vertex goes.
+    const Surface flat = grid_with_vertex_moved_to(0.55);
+    EXPECT_EQ(count_exact(simplify(flat, o).surface, vertex_record(flat, grid_index(10, 5, 5))),
+              0u);
 }
 
 // Every vertex locked: nothing can be removed or moved.
