@@ -71,10 +71,14 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
         }
     }
 
+    // Each triangle's normal (length = 2 x area), for the reference normals, the feature edges
+    // and the folds.
+    std::vector<Vec3> normal(s.triangle_count());
+    for (uint32_t t = 0; t < normal.size(); ++t) normal[t] = triangle_normal(t);
     {
         std::vector<double> sum(3 * vertex_count, 0.0);
         for (uint32_t t = 0; t < live_triangles; ++t) {
-            const Vec3 n = triangle_normal(t);
+            const Vec3& n = normal[t];
             for (int c = 0; c < 3; ++c)
                 for (int k = 0; k < 3; ++k) sum[3 * size_t(origin[3 * t + c]) + k] += n[k];
         }
@@ -109,11 +113,9 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     // Feature edges from the dihedral angle between twin triangles (none when the limit is
     // below every cosine: feature angle 180, the default), and folds of the input (see
     // kFoldCos): their vertices are locked.
-    std::vector<Vec3> normal(s.triangle_count());
-    for (uint32_t t = 0; t < normal.size(); ++t) {
-        Vec3 n = triangle_normal(t);
+    for (Vec3& n : normal) {
         const double len = norm(n);
-        normal[t] = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
+        n = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
     }
     for (uint32_t h = 0; h < halfedges; ++h) {
         const uint32_t t = twin[h];
