@@ -19,11 +19,11 @@ namespace ddsimp::detail {
 inline constexpr uint32_t kNone = 0xffffffffu;
 // Rounds of neighbour averaging that turn vertex normals into reference normals.
 inline constexpr int kReferenceSmoothing = 4;
-// Two neighbouring triangles whose normals are more than 170 degrees apart: the surface folds
+// Two neighbouring triangles whose normals are more than 175 degrees apart: the surface folds
 // back over itself there (a cutting plane through a mesh's overlapping cells makes these). The
 // error quadrics hardly see what moving such a fold costs, since its two sides lie in nearly one
 // plane, yet it uncovers part of the surface; so the fold's vertices are locked.
-inline constexpr double kFoldCos = -0.98480775301220802; // cos(170 degrees)
+inline constexpr double kFoldCos = -0.99619469809174553; // cos(175 degrees)
 
 inline uint32_t next(uint32_t h) {
     return h % 3 == 2 ? h - 2 : h + 1;
