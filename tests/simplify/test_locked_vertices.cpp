@@ -121,7 +121,7 @@ TEST_P(LockedVertices, FoldOfTheInputStays) {
     const Result r = simplify(folded, o);
     EXPECT_EQ(count_exact(r.surface, vertex_record(folded, grid_index(10, 5, 5))), 1u);
     EXPECT_TRUE(topology_kept(analyze_topology(folded), analyze_topology(r.surface)));
-    // Moved as far without a fold, the same vertex goes.
+    // Moved less far, without a fold, the same vertex goes.
     const Surface flat = grid_with_vertex_moved_to(0.55);
     EXPECT_EQ(count_exact(simplify(flat, o).surface, vertex_record(flat, grid_index(10, 5, 5))),
               0u);
