@@ -71,14 +71,10 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
         }
     }
 
-    // Each triangle's normal (length = 2 x area), for the reference normals, the feature edges
-    // and the folds.
-    std::vector<Vec3> normal(s.triangle_count());
-    for (uint32_t t = 0; t < normal.size(); ++t) normal[t] = triangle_normal(t);
     {
         std::vector<double> sum(3 * vertex_count, 0.0);
         for (uint32_t t = 0; t < live_triangles; ++t) {
-            const Vec3& n = normal[t];
+            const Vec3 n = triangle_normal(t);
             for (int c = 0; c < 3; ++c)
                 for (int k = 0; k < 3; ++k) sum[3 * size_t(origin[3 * t + c]) + k] += n[k];
         }
@@ -112,16 +108,19 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
 
     // Feature edges from the dihedral angle between twin triangles (none when the limit is
     // below every cosine: feature angle 180, the default), and folds of the input (see
-    // kFoldCos): their vertices are locked.
-    for (Vec3& n : normal) {
+    // kFoldCos): their vertices are locked. Each edge once, its normals computed there rather
+    // than kept for every triangle (which would raise the peak memory).
+    auto unit_normal = [&](uint32_t t) {
+        const Vec3 n = triangle_normal(t);
         const double len = norm(n);
-        n = len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
-    }
+        return len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
+    };
     for (uint32_t h = 0; h < halfedges; ++h) {
         const uint32_t t = twin[h];
-        if (t == kNone) continue;
-        const Vec3 &n0 = normal[h / 3], &n1 = normal[t / 3];
-        if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n0, n1) < limits.feature_cos) line[h] = 1;
+        if (t == kNone || t < h) continue;
+        const Vec3 n0 = unit_normal(h / 3), n1 = unit_normal(t / 3);
+        if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n0, n1) < limits.feature_cos)
+            line[h] = line[t] = 1;
         if (dot(n0, n1) < kFoldCos) {
             if (locked.empty()) locked.assign(capacity, 0);
             locked[origin[h]] = locked[dest(h)] = 1;
