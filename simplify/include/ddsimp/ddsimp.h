@@ -185,6 +185,8 @@ struct Options {
     // keeps that vertex in the output with its position and data unchanged (like a corner of a
     // line, it is never removed or moved; a free neighbour may still collapse into it). For
     // pieces of a larger surface whose shared borders must stay as they are (ddsimp-mpi).
+    // Whatever this says, the vertices of the input's folds (two neighbouring triangles more
+    // than 175 degrees apart, docs/algorithm.md) are kept the same way.
     std::vector<std::uint8_t> locked;
 
     // Threads for the per-vertex set-up stages; the output does not depend on it.
