@@ -153,7 +153,7 @@ cpu_model=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
     echo "## ddsimp benchmark, $(date -u '+%Y-%m-%d %H:%M UTC')"
     echo
     echo "- surface: \`${surface#"$root/"}\`, reduced to 10% of its triangles, one thread," \
-        "α = 0.5, midpoint placement"
+        "α = 0.5, midpoint placement unless a row says otherwise"
     echo "- commit $commit; $cpu_model, $(nproc) cores; load average before: $load_before"
     echo "- time: median of $repetitions repetitions (Google Benchmark), process CPU seconds" \
         "and wall seconds; ratio = ddsimp CPU / meshopt CPU"
@@ -164,6 +164,7 @@ cpu_model=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
     echo "|---|---|---|---|---|---|"
     row "meshoptimizer $meshopt_version \`meshopt_simplify\` (geometry only)" meshopt_simplify ""
     row "ddsimp EdgeCollapse" ddsimp_EdgeCollapse edge
+    row "ddsimp EdgeCollapse, least-error placement (the default)" ddsimp_EdgeCollapse_LeastError ""
     row "ddsimp VertexRemoval" ddsimp_VertexRemoval vertex
     echo
     reproduce="bench/run.sh$($quick && echo ' --quick')"

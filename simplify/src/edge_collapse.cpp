@@ -184,29 +184,33 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     Vec3 p = scale(add(pa, pb), 0.5);
     // The error of both ends along the edge (error quadrics), from a at t = 0 to b at t = 1.
     SegmentError error;
+    // Between two free ends the least-error point may also leave the edge sideways, to where the
+    // error is least, keeping its projection on the edge (and so its data); not with the data
+    // alone (alpha = 0), which does not say where the surface is.
+    const bool may_leave_edge =
+        least_error_ && ka == VertexKind::Free && kb == VertexKind::Free && options_.alpha > 0;
+    SegmentSlope slope;
+    double t = 0.5, sideways_change = 0;
     bool off_edge = false;
     if (quadric_terms_ || least_error_) {
         const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
-        error = quadrics_.along(a, b, pa, pb, fa, fb);
+        error = quadrics_.along(a, b, pa, pb, fa, fb, may_leave_edge ? &slope : nullptr);
     }
     if (ka == VertexKind::Corner || (ka == VertexKind::Line && kb == VertexKind::Free))
         p = pa;
     else if (kb == VertexKind::Corner || (kb == VertexKind::Line && ka == VertexKind::Free))
         p = pb;
     else if (least_error_) {
-        const double t = error.least();
+        t = error.least();
         p = add(pa, scale(sub(pb, pa), t));
-        // Between two free ends the point may also leave the edge sideways, to where the error
-        // is least, keeping its projection on the edge (and so its data); not with the data
-        // alone (alpha = 0), which does not say where the surface is.
-        if (ka == VertexKind::Free && kb == VertexKind::Free && options_.alpha > 0) {
+        if (may_leave_edge) {
             const Vec3 edge = sub(pb, pa);
             const double length = norm(edge);
-            Vec3 d = quadrics_.sideways(a, b, p, scale(edge, 1 / length), mesh_.data_of(a),
-                                        mesh_.data_of(b), t);
+            Vec3 d = quadrics_.sideways(slope, t, scale(edge, 1 / length));
             const double l = norm(d);
             if (l > kMaxSideways * length) d = scale(d, kMaxSideways * length / l);
-            if (l > 0) p = add(p, d), off_edge = true;
+            if (l > 0)
+                p = add(p, d), off_edge = true, sideways_change = quadrics_.change(slope, t, d);
         }
     } else if (ka == VertexKind::Free && kb == VertexKind::Free &&
                options_.placement == Placement::VolumePreserving) {
@@ -251,14 +255,16 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     plan.halfedge = h;
     plan.error = 0;
     if (quadric_terms_) {
-        // Off the edge (volume-preserving point): the error there, with the data it gets.
-        const bool on_edge = !off_edge && (p == pa || p == pb || least_error_ ||
-                                           options_.placement == Placement::Midpoint);
-        if (!on_edge) {
+        const bool volume_point = !least_error_ && p != pa && p != pb &&
+                                  options_.placement == Placement::VolumePreserving;
+        if (off_edge) { // sideways: the error at t, and what the step changed, exactly
+            plan.error = std::max(0.0, error.at(t) + sideways_change);
+        } else if (volume_point) { // off the edge: the error there, with the data it gets
             const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
-            error = quadrics_.along(a, b, p, p, fa, fb);
+            plan.error = quadrics_.along(a, b, p, p, fa, fb).at(plan.along);
+        } else {
+            plan.error = error.at(plan.along);
         }
-        plan.error = error.at(plan.along);
     }
 }
 

@@ -124,7 +124,7 @@ using Pair = double __attribute__((vector_size(16)));
 } // namespace
 
 SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb,
-                                  const float* fa, const float* fb) const {
+                                  const float* fa, const float* fb, SegmentSlope* slope) const {
     const double *qv = of(v), *qw = of(w);
     const Vec3 x = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
     // Each quadric's terms are summed as for one quadric on its own (v in lane 0, w in lane 1),
@@ -144,6 +144,9 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
     Pair h = dx[0] * ax[0] + dx[1] * ax[1] + dx[2] * ax[2] + dot_q(dx, 6);
     Pair g = dx[0] * adx[0] + dx[1] * adx[1] + dx[2] * adx[2];
     const Pair wt = q(10);
+    // The half gradient at t: (A x + b - sum sa G) + t (A dx - sum ds G), per lane.
+    Pair slope0[3] = {ax[0] + q(6), ax[1] + q(7), ax[2] + q(8)};
+    Pair slope1[3] = {adx[0], adx[1], adx[2]};
     for (size_t j = 0; j < components; ++j) {
         const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
         const double sa = (a - low[j]) * inv_range[j], ds = (b - a) * inv_range[j];
@@ -152,6 +155,14 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
         e0 += wt * sa * sa - 2 * sa * gx;
         h += wt * sa * ds - ds * gx - sa * gd;
         g += wt * ds * ds - 2 * ds * gd;
+        if (slope)
+            for (size_t k = 0; k < 3; ++k) slope0[k] -= sa * q(gj + k), slope1[k] -= ds * q(gj + k);
+    }
+    if (slope) {
+        for (size_t k = 0; k < 6; ++k) slope->a[k] = qv[k] + qw[k];
+        for (size_t k = 0; k < 3; ++k)
+            slope->slope0[k] = slope0[k][0] + slope0[k][1],
+            slope->slope1[k] = slope1[k][0] + slope1[k][1];
     }
     // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in ranges)
     // weighted by A's trace and W: rounding leaves about 1e-12 of that.
@@ -187,31 +198,15 @@ double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32
     return std::max(0.0, e);
 }
 
-Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis,
-                             const float* fa, const float* fb, double t) const {
+Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& axis) const {
     if (inv_diagonal == 0) return {0, 0, 0};
-    // A and the error's half gradient g = A x + b - sum_j s_j G_j of both quadrics at x.
-    double a[6] = {0, 0, 0, 0, 0, 0};
-    const Vec3 y = scale(sub(x, centre), inv_diagonal);
-    Vec3 g{0, 0, 0};
-    for (uint32_t u : {v, w}) {
-        const double* q = of(u);
-        for (int k = 0; k < 6; ++k) a[k] += q[k];
-        g = detail::add(g, Vec3{q[6], q[7], q[8]});
-        for (size_t j = 0; j < components; ++j) {
-            const double s =
-                ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
-                inv_range[j];
-            const double* gj = q + kSharedTerms + 4 * j;
-            g = sub(g, scale(Vec3{gj[0], gj[1], gj[2]}, s));
-        }
-    }
+    const double* a = slope.a;
     auto times_a = [&](const Vec3& z) {
         return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
                     a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
                     a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
     };
-    g = detail::add(g, times_a(y));
+    const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
     Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     u1 = sub(u1, scale(axis, dot(u1, axis)));
@@ -227,7 +222,7 @@ Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& 
     double e1[2] = {1, 0};
     if (h12 != 0) {
         e1[0] = l1 - h22, e1[1] = h12;
-        const double l = std::hypot(e1[0], e1[1]);
+        const double l = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1]);
         e1[0] /= l, e1[1] /= l;
     } else if (h22 > h11)
         e1[0] = 0, e1[1] = 1;
@@ -240,6 +235,14 @@ Vec3 ErrorQuadrics::sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& 
         d[0] += c2 * e2[0], d[1] += c2 * e2[1];
     }
     return scale(detail::add(scale(u1, d[0]), scale(u2, d[1])), 1 / inv_diagonal);
+}
+
+double ErrorQuadrics::change(const SegmentSlope& slope, double t, const Vec3& offset) const {
+    const double* a = slope.a;
+    const Vec3 d = scale(offset, inv_diagonal);
+    const Vec3 ad{a[0] * d[0] + a[1] * d[1] + a[2] * d[2], a[1] * d[0] + a[3] * d[1] + a[4] * d[2],
+                  a[2] * d[0] + a[4] * d[1] + a[5] * d[2]};
+    return 2 * dot(detail::add(slope.slope0, scale(slope.slope1, t)), d) + dot(d, ad);
 }
 
 } // namespace ddsimp::detail

@@ -40,6 +40,14 @@ struct SegmentError {
     }
 };
 
+// What moving a point sideways off a segment needs of the two quadrics summed along it: A, and
+// the half gradient of the error, A y + b - sum_j s_j G_j, at the segment's point of position t
+// (data held at its blend there): slope0 + t slope1. Normalised units.
+struct SegmentSlope {
+    double a[6] = {0, 0, 0, 0, 0, 0};
+    Vec3 slope0{0, 0, 0}, slope1{0, 0, 0};
+};
+
 struct ErrorQuadrics {
     // A (6), b (3), c and W, which every data component shares; its G (3) and D follow.
     static constexpr size_t kSharedTerms = 11;
@@ -65,14 +73,17 @@ struct ErrorQuadrics {
 
     // The summed error of the quadrics of vertices v and w (an edge's two ends) along the segment
     // from position xa with data fa to xb with data fb (raw positions and data records of the
-    // working mesh). One call for both: the segment's normalised terms are shared.
+    // working mesh). One call for both: the segment's normalised terms are shared. With `slope`,
+    // also what a sideways step off the segment needs (from the same terms).
     SegmentError along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb, const float* fa,
-                       const float* fb) const;
-    // The offset from position x, perpendicular to the unit vector `axis`, that lowers the summed
-    // error of the quadrics of v and w most, their data held at the blend (1 - t) fa + t fb;
-    // directions the quadrics hardly determine are left out (a truncated inverse).
-    Vec3 sideways(uint32_t v, uint32_t w, const Vec3& x, const Vec3& axis, const float* fa,
-                  const float* fb, double t) const;
+                       const float* fb, SegmentSlope* slope = nullptr) const;
+    // The offset (raw units) from the segment's point of position t, perpendicular to the unit
+    // vector `axis`, that lowers the summed error most (`slope` from along); directions the
+    // quadrics hardly determine are left out (a truncated inverse).
+    Vec3 sideways(const SegmentSlope& slope, double t, const Vec3& axis) const;
+    // How the summed error changes when the segment's point of position t moves by `offset`
+    // (raw units), its data held: 2 grad.d + d.A.d, exactly, as the error is quadratic.
+    double change(const SegmentSlope& slope, double t, const Vec3& offset) const;
     // The error of vertex v's quadric at the blend sum_i weights[i] * points[i] of positions and
     // data (weights summing to 1; nullptr: the mean).
     double at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,

@@ -25,7 +25,8 @@ if(err)
     message(FATAL_ERROR "${OUT}: no 'benchmarks' array: ${err}")
 endif()
 
-foreach(expected meshopt_simplify ddsimp_EdgeCollapse ddsimp_VertexRemoval)
+foreach(expected meshopt_simplify ddsimp_EdgeCollapse ddsimp_EdgeCollapse_LeastError
+                 ddsimp_VertexRemoval)
     set(found FALSE)
     if(count GREATER 0)
         math(EXPR last "${count} - 1")

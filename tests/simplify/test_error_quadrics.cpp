@@ -1,0 +1,88 @@
+// ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
+// placement and the error change it reports, against the quadrics evaluated afresh at the moved
+// point. The quadrics are built by hand from planes and a linear field, so that
+// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+#include "error_quadric.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+namespace ddsimp::detail {
+namespace {
+
+// A plane n.x + e = 0 with weight w, added to quadric q (the layout error_quadric.h documents).
+void add_plane(double* q, const Vec3& n, double e, double w) {
+    q[0] += w * n[0] * n[0], q[1] += w * n[0] * n[1], q[2] += w * n[0] * n[2];
+    q[3] += w * n[1] * n[1], q[4] += w * n[1] * n[2], q[5] += w * n[2] * n[2];
+    for (int k = 0; k < 3; ++k) q[6 + k] += w * e * n[k];
+    q[9] += w * e * e;
+}
+
+// w (s - g.x - d)^2 for one data component, added to quadric q.
+void add_field(double* q, const Vec3& g, double d, double w) {
+    add_plane(q, g, d, w); // (g.x + d)^2 expands like a plane's
+    q[10] += w;
+    for (int k = 0; k < 3; ++k) q[ErrorQuadrics::kSharedTerms + k] += w * g[k];
+    q[ErrorQuadrics::kSharedTerms + 3] += w * d;
+}
+
+Vec3 unit(Vec3 v) {
+    return scale(v, 1 / norm(v));
+}
+
+// Two vertices' quadrics: curved geometry (planes of different directions) and one data component,
+// in normalised units (centre 0, diagonal 1, data range 1).
+ErrorQuadrics two_quadrics() {
+    ErrorQuadrics q;
+    q.components = 1;
+    q.size = ErrorQuadrics::kSharedTerms + 4;
+    q.values.assign(2 * q.size, 0.0);
+    q.inv_diagonal = 1;
+    q.offset = {0};
+    q.low = {0};
+    q.inv_range = {1};
+    add_plane(q.of(0), unit({0.1, 0.2, 1.0}), -0.05, 0.7);
+    add_plane(q.of(0), unit({0.9, -0.1, 0.4}), 0.02, 0.3);
+    add_field(q.of(0), {0.5, -0.3, 0.2}, 0.1, 0.4);
+    add_plane(q.of(1), unit({-0.2, 0.1, 1.0}), -0.04, 0.5);
+    add_plane(q.of(1), unit({0.0, 1.0, 0.3}), 0.01, 0.6);
+    add_field(q.of(1), {0.4, -0.2, 0.1}, 0.12, 0.5);
+    return q;
+}
+
+TEST(ErrorQuadrics, SidewaysChangeEqualsTheErrorAtTheMovedPoint) {
+    const ErrorQuadrics q = two_quadrics();
+    const Vec3 xa{0.10, -0.05, 0.02}, xb{0.16, 0.03, -0.01};
+    const float fa[1] = {0.25f}, fb[1] = {0.40f};
+    SegmentSlope slope;
+    const SegmentError edge = q.along(0, 1, xa, xb, fa, fb, &slope);
+    // The slope does not change the segment's error.
+    const SegmentError plain = q.along(0, 1, xa, xb, fa, fb);
+    EXPECT_EQ(edge.e0, plain.e0);
+    EXPECT_EQ(edge.h, plain.h);
+    EXPECT_EQ(edge.g, plain.g);
+
+    const Vec3 axis = unit(sub(xb, xa));
+    for (double t : {0.0, 0.3, 0.5, 1.0}) {
+        const Vec3 p = add(xa, scale(sub(xb, xa), t));
+        const Vec3 d = q.sideways(slope, t, axis);
+        EXPECT_NEAR(dot(d, axis), 0.0, 1e-12) << "t = " << t << ": the step leaves the edge square";
+        // The error at the moved point, its data held at the blend of t, evaluated afresh.
+        const Vec3 moved = add(p, d);
+        const double fresh = q.along(0, 1, moved, moved, fa, fb).at(t);
+        const double on_edge = q.along(0, 1, p, p, fa, fb).at(t);
+        EXPECT_NEAR(on_edge + q.change(slope, t, d), fresh, 1e-12 * (1 + on_edge)) << "t = " << t;
+        EXPECT_LT(fresh, on_edge) << "t = " << t << ": the step lowers the error";
+        // Any other offset across the edge is an exact change too, and no better than the step.
+        const Vec3 other = scale(unit(cross(axis, {0.3, -0.7, 0.2})), 0.01);
+        const Vec3 elsewhere = add(p, other);
+        const double other_fresh = q.along(0, 1, elsewhere, elsewhere, fa, fb).at(t);
+        EXPECT_NEAR(on_edge + q.change(slope, t, other), other_fresh, 1e-12 * (1 + on_edge));
+        EXPECT_LE(fresh, other_fresh + 1e-15) << "t = " << t;
+    }
+}
+
+} // namespace
+} // namespace ddsimp::detail
