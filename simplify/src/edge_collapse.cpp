@@ -182,7 +182,8 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
     const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
     Vec3 p = scale(add(pa, pb), 0.5);
-    // The error of both ends along the edge (error quadrics), from a at t = 0 to b at t = 1.
+    // The least-error placement: the error of both ends along the edge, from a at t = 0 to b at
+    // t = 1 (the other placements need the error at their point only).
     SegmentError error;
     // Between two free ends the least-error point may also leave the edge sideways, to where the
     // error is least, keeping its projection on the edge (and so its data); not with the data
@@ -192,10 +193,9 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     SegmentSlope slope;
     double t = 0.5, sideways_change = 0;
     bool off_edge = false;
-    if (quadric_terms_ || least_error_) {
-        const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
+    const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
+    if (least_error_)
         error = quadrics_.along(a, b, pa, pb, fa, fb, may_leave_edge ? &slope : nullptr);
-    }
     if (ka == VertexKind::Corner || (ka == VertexKind::Line && kb == VertexKind::Free))
         p = pa;
     else if (kb == VertexKind::Corner || (kb == VertexKind::Line && ka == VertexKind::Free))
@@ -255,16 +255,12 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     plan.halfedge = h;
     plan.error = 0;
     if (quadric_terms_) {
-        const bool volume_point = !least_error_ && p != pa && p != pb &&
-                                  options_.placement == Placement::VolumePreserving;
-        if (off_edge) { // sideways: the error at t, and what the step changed, exactly
+        if (!least_error_) // the midpoint, an end or the volume point, with the data it gets
+            plan.error = quadrics_.at(a, b, p, fa, fb, plan.along);
+        else if (off_edge) // sideways: the error at t, and what the step changed, exactly
             plan.error = std::max(0.0, error.at(t) + sideways_change);
-        } else if (volume_point) { // off the edge: the error there, with the data it gets
-            const float *fa = mesh_.data_of(a), *fb = mesh_.data_of(b);
-            plan.error = quadrics_.along(a, b, p, p, fa, fb).at(plan.along);
-        } else {
+        else
             plan.error = error.at(plan.along);
-        }
     }
 }
 

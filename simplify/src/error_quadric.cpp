@@ -175,6 +175,26 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
     return e;
 }
 
+double ErrorQuadrics::at(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
+                         double t) const {
+    const double *qv = of(v), *qw = of(w);
+    const Vec3 y = scale(sub(x, centre), inv_diagonal);
+    auto q = [&](size_t i) { return Pair{qv[i], qw[i]}; }; // v in lane 0, w in lane 1, as along
+    auto dot_q = [&](size_t i) { return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2]; };
+    const Pair ay[3] = {q(0) * y[0] + q(1) * y[1] + q(2) * y[2],
+                        q(1) * y[0] + q(3) * y[1] + q(4) * y[2],
+                        q(2) * y[0] + q(4) * y[1] + q(5) * y[2]};
+    Pair e = y[0] * ay[0] + y[1] * ay[1] + y[2] * ay[2] + 2 * dot_q(6) + q(9);
+    const Pair wt = q(10);
+    for (size_t j = 0; j < components; ++j) {
+        const double s =
+            ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) * inv_range[j];
+        const size_t gj = kSharedTerms + 4 * j;
+        e += wt * s * s - 2 * s * (dot_q(gj) + q(gj + 3));
+    }
+    return std::max(0.0, e[0] + e[1]);
+}
+
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
                                const double* weights, size_t count) const {
     if (count == 0) return 0;

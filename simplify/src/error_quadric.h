@@ -77,6 +77,11 @@ struct ErrorQuadrics {
     // also what a sideways step off the segment needs (from the same terms).
     SegmentError along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb, const float* fa,
                        const float* fb, SegmentSlope* slope = nullptr) const;
+    // The summed error of the quadrics of v and w at position x with the data blend
+    // (1 - t) fa + t fb (raw position and data records): along's error at one point, for half
+    // its work.
+    double at(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
+              double t) const;
     // The offset (raw units) from the segment's point of position t, perpendicular to the unit
     // vector `axis`, that lowers the summed error most (`slope` from along); directions the
     // quadrics hardly determine are left out (a truncated inverse).

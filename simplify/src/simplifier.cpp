@@ -289,7 +289,7 @@ ProgressiveRecord Simplifier::run() {
             }
             if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
             if (options_.strategy == Strategy::EdgeCollapse)
-                detail::runs_in_id_order(order_, share, kPassRuns);
+                detail::runs_in_id_order(order_, share, kPassRuns, scratch_);
             ++pass_;
             for (size_t i = 0; i < share; ++i) {
                 const detail::Candidate c = order_[i];

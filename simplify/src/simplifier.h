@@ -133,7 +133,8 @@ private:
     std::vector<Member> pool_;
     std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
-    std::vector<detail::Candidate> order_, scratch_; // the pass's lightest, sorted; all of them
+    // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
+    std::vector<detail::Candidate> order_, scratch_;
     // busy_[v] == pass_: an operation of this pass changed v's star, so the pass leaves v alone
     // (and every weight an operation reads is the one of the current surface).
     std::vector<uint32_t> busy_;

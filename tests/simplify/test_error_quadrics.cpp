@@ -1,6 +1,6 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
-// placement and the error change it reports, against the quadrics evaluated afresh at the moved
-// point. The quadrics are built by hand from planes and a linear field, so that
+// placement and the error change it reports, and the error at one point, against the quadrics
+// evaluated along a segment. The quadrics are built by hand from planes and a linear field, so that
 // E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
 #include "error_quadric.h"
 
@@ -82,6 +82,22 @@ TEST(ErrorQuadrics, SidewaysChangeEqualsTheErrorAtTheMovedPoint) {
         EXPECT_NEAR(on_edge + q.change(slope, t, other), other_fresh, 1e-12 * (1 + on_edge));
         EXPECT_LE(fresh, other_fresh + 1e-15) << "t = " << t;
     }
+}
+
+TEST(ErrorQuadrics, ErrorAtAPointEqualsTheSegmentsErrorThere) {
+    const ErrorQuadrics q = two_quadrics();
+    const Vec3 xa{0.10, -0.05, 0.02}, xb{0.16, 0.03, -0.01};
+    const float fa[1] = {0.25f}, fb[1] = {0.40f};
+    const SegmentError edge = q.along(0, 1, xa, xb, fa, fb);
+    for (double t : {0.0, 0.25, 0.5, 1.0}) {
+        const Vec3 p = add(xa, scale(sub(xb, xa), t));
+        EXPECT_NEAR(q.at(0, 1, p, fa, fb, t), edge.at(t), 1e-12 * (1 + edge.at(t))) << "t = " << t;
+        // Off the edge: the segment from the point to itself, its data still blended at t.
+        const Vec3 off = add(p, {0.01, -0.02, 0.015});
+        EXPECT_NEAR(q.at(0, 1, off, fa, fb, t), q.along(0, 1, off, off, fa, fb).at(t), 1e-12)
+            << "t = " << t;
+    }
+    EXPECT_GT(q.at(0, 1, xa, fa, fb, 0.5), 0.0); // curved geometry: no point is free
 }
 
 } // namespace
