@@ -14,17 +14,12 @@ double SegmentError::least() const {
     return at(0.5) <= at(t) + noise ? 0.5 : t;
 }
 
-namespace {
-
-// The quadric of one plane n.x + e = 0 (n of unit length) with weight w, added to q.
 void add_plane(double* q, const Vec3& n, double e, double w) {
     q[0] += w * n[0] * n[0], q[1] += w * n[0] * n[1], q[2] += w * n[0] * n[2];
     q[3] += w * n[1] * n[1], q[4] += w * n[1] * n[2], q[5] += w * n[2] * n[2];
     for (int k = 0; k < 3; ++k) q[6 + k] += w * e * n[k];
     q[9] += w * e * e;
 }
-
-} // namespace
 
 void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double alpha,
                           size_t capacity) {

@@ -40,6 +40,10 @@ struct SegmentError {
     }
 };
 
+// w (n.x + e)^2 as quadric terms (A, b, c of the layout above), added to q: a plane's squared
+// distance for n of unit length.
+void add_plane(double* q, const Vec3& n, double e, double w);
+
 // What moving a point sideways off a segment needs of the two quadrics summed along it: A, and
 // the half gradient of the error, A y + b - sum_j s_j G_j, at the segment's point of position t
 // (data held at its blend there): slope0 + t slope1. Normalised units.

@@ -12,14 +12,6 @@
 namespace ddsimp::detail {
 namespace {
 
-// A plane n.x + e = 0 with weight w, added to quadric q (the layout error_quadric.h documents).
-void add_plane(double* q, const Vec3& n, double e, double w) {
-    q[0] += w * n[0] * n[0], q[1] += w * n[0] * n[1], q[2] += w * n[0] * n[2];
-    q[3] += w * n[1] * n[1], q[4] += w * n[1] * n[2], q[5] += w * n[2] * n[2];
-    for (int k = 0; k < 3; ++k) q[6 + k] += w * e * n[k];
-    q[9] += w * e * e;
-}
-
 // w (s - g.x - d)^2 for one data component, added to quadric q.
 void add_field(double* q, const Vec3& g, double d, double w) {
     add_plane(q, g, d, w); // (g.x + d)^2 expands like a plane's
