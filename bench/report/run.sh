@@ -7,7 +7,9 @@
 #
 # Usage: bench/report/run.sh [--quick] [--resume] [--out DIR]
 #   --quick   two small surfaces, one level (10%), no scaling and no rendering: the smoke test
-#   --resume  keep the results of an interrupted run (DIR/runs) and do only what is missing
+#   --resume  keep the results of an interrupted run (DIR/runs) and do only what is missing;
+#             bench/report/reuse.py seeds DIR/runs from the committed report, so that only the
+#             runs a library change affects are made again
 # Environment:
 #   DDSIMP_REPORT_BUILD_DIR  use ddsimp and ddsimp_report already built there (skip the build)
 #   DDSIMP_SHARED_DATA       the shared data directory (default: ../shared/data beside the repo)
