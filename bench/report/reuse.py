@@ -14,8 +14,9 @@ has one of its values ("*" ends a value as a prefix). Example, a change to edge 
 
     reuse.py bench/report/latest /tmp/report --rerun 'simplifier=ddsimp-edge alpha=0.5,1.0'
 
-Use it only for rows whose output the change leaves byte for byte as it was (the 168 reference
-outputs of changes.md tell); their times are the earlier report's, from another day. A scaling
+Use it only for rows whose output the change leaves byte for byte as it was (compare reference
+outputs before and after, as changes.md describes for each version); their times are the earlier
+report's, from another day. A scaling
 point's repetitions each carry its median (the CSV keeps no more), so its median is unchanged.
 """
 
