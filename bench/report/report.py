@@ -33,6 +33,7 @@ LEVELS = [0.5, 0.25, 0.1, 0.05]
 PEERS = ["meshopt", "vtk-quadric", "vtk-decimatepro", "openmesh"]
 DDSIMP = ["ddsimp-edge", "ddsimp-vertex"]
 GOAL_LEVEL = 0.1
+RENDER_SURFACE = "earth"  # default of --render-surface: its reductions at GOAL_LEVEL are drawn
 HAUSDORFF_GOAL = 1.5  # alpha = 1: within this factor of the best peer
 FLOAT_NOISE = 1e-6  # relative distances below this are float rounding, not error
 
@@ -376,6 +377,12 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
 RUNS = {"all": 0, "reused": 0}  # runs asked for, and those taken from the cache (--resume)
 
 
+def run_key(surface, simplifier, alpha, level):
+    """A run's name in the cache: `level` is the keep fraction, or a scaling run's repetition;
+    alpha is None for a peer (reuse.py writes the cache under the same names)."""
+    return f"{surface}__{simplifier}__{alpha}__{level}"
+
+
 def cached_run(cache_dir, key, deadline, run):
     """run() unless its result is cached (an interrupted report resumes) or the budget is spent."""
     path = os.path.join(cache_dir, key + ".json")
@@ -411,7 +418,7 @@ def main():
     ap.add_argument("--out", required=True)
     ap.add_argument("--quick", action="store_true", help="one level (10%%), 60 s per run at most")
     ap.add_argument("--scaling", help="directory of the scaling surfaces (scale-*.vtp)")
-    ap.add_argument("--render-surface", default="earth",
+    ap.add_argument("--render-surface", default=RENDER_SURFACE,
                     help="surface whose reductions at 10%% are written for render.py")
     ap.add_argument("--budget-minutes", type=float,
                     help="start no run after this; the rest is reported as 'not run'")
@@ -441,7 +448,7 @@ def main():
         out_mesh = None
         if surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0):
             out_mesh = os.path.join(meshes, f"{surface}-{simplifier}.vtp")
-        key = f"{surface}__{simplifier}__{alpha}__{keep}"
+        key = run_key(surface, simplifier, alpha, keep)
         r = cached_run(cache, key, deadline,
                        lambda: run_one(tool, os.path.join(args.surfaces, surface + ".vtp"),
                                        simplifier, alpha, keep, timeout, out_mesh))
@@ -454,7 +461,7 @@ def main():
         alpha = 0.5 if simplifier in DDSIMP else None
         runs = []
         for rep in range(3):
-            key = f"{os.path.basename(path)[:-4]}__{simplifier}__{alpha}__{rep}"
+            key = run_key(os.path.basename(path)[:-4], simplifier, alpha, rep)
             r = cached_run(cache, key, deadline,
                            lambda: run_one(tool, path, simplifier, alpha, GOAL_LEVEL, 420,
                                            compare=False))

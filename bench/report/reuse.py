@@ -7,8 +7,8 @@
 EARLIER_DIR holds an earlier report's results.csv and scaling.csv (bench/report/latest is the
 committed one). Every row becomes a cached result in OUT_DIR/runs, the cache that
 `run.sh --resume` reads (report.py: cached_run), except the rows that a --rerun SPEC matches and
-the earth at 10% with α = 0 and the peers, whose reductions render.py draws (only a run writes
-them). A SPEC is space-separated FIELD=VALUE,VALUE... with FIELD one of surface, simplifier, alpha
+report.py's RENDER_SURFACE at GOAL_LEVEL with α = 0 and the peers, whose reductions render.py
+draws (only a run writes them). A SPEC is space-separated FIELD=VALUE,VALUE... with FIELD one of surface, simplifier, alpha
 (empty for a peer) and keep ("scaling" for a scaling point); a row matches when every field named
 has one of its values ("*" ends a value as a prefix). Example, a change to edge collapse at α > 0:
 
@@ -16,8 +16,8 @@ has one of its values ("*" ends a value as a prefix). Example, a change to edge 
 
 Use it only for rows whose output the change leaves byte for byte as it was (compare reference
 outputs before and after, as changes.md describes for each version); their times are the earlier
-report's, from another day. A scaling
-point's repetitions each carry its median (the CSV keeps no more), so its median is unchanged.
+report's, from another day. A scaling point's repetitions each carry its median (the CSV keeps no
+more), so its median is unchanged.
 """
 
 import argparse
@@ -26,10 +26,11 @@ import json
 import os
 import sys
 
+import report  # run_key, GOAL_LEVEL, RENDER_SURFACE: the cache's names and what is rendered
+
 MEASURED = ["seconds", "cpu_seconds", "geometric_rms", "geometric_hausdorff", "data_rms", "data_max"]
 COUNTED = ["triangles_in", "target", "triangles_out", "triangles_seen"]
 TOPOLOGY = ["euler", "boundary_loops", "components", "nonmanifold_edges"]
-RENDERED = ("earth", "0.1", ("", "0.0"))  # report.py's --render-surface at GOAL_LEVEL, α None or 0
 
 
 def parse_spec(text):
@@ -77,8 +78,14 @@ def cached_scaling(row):
     return {k: v for k, v in r.items() if v is not None}
 
 
-def alpha_key(text):
-    return None if text == "" else float(text)  # as report.py formats the cache keys
+def alpha_of(text):
+    return None if text == "" else float(text)
+
+
+def rendered(row):
+    """report.py writes the meshes of these runs for render.py, which only a run does."""
+    return (row["surface"] == report.RENDER_SURFACE and float(row["keep"]) == report.GOAL_LEVEL
+            and row["alpha"] in ("", "0.0"))
 
 
 def main():
@@ -97,13 +104,11 @@ def main():
     reused = rerun = 0
     with open(os.path.join(args.earlier, "results.csv"), newline="") as f:
         for row in csv.DictReader(f):
-            rendered = (row["surface"], row["keep"]) == RENDERED[:2] and row["alpha"] in RENDERED[2]
-            if rendered or any(matches(s, row) for s in args.rerun):
+            if rendered(row) or any(matches(s, row) for s in args.rerun):
                 rerun += 1
                 continue
-            keep = float(row["keep"])
-            write(f"{row['surface']}__{row['simplifier']}__{alpha_key(row['alpha'])}__{keep}",
-                  cached_reduction(row))
+            write(report.run_key(row["surface"], row["simplifier"], alpha_of(row["alpha"]),
+                                 float(row["keep"])), cached_reduction(row))
             reused += 1
     scaling = os.path.join(args.earlier, "scaling.csv")
     if os.path.exists(scaling):
@@ -113,8 +118,8 @@ def main():
                     rerun += 1
                     continue
                 for rep in range(max(1, int(row["repetitions"]))):  # 0: it failed, once
-                    write(f"{row['surface']}__{row['simplifier']}__{alpha_key(row['alpha'])}__{rep}",
-                          cached_scaling(row))
+                    write(report.run_key(row["surface"], row["simplifier"],
+                                         alpha_of(row["alpha"]), rep), cached_scaling(row))
                 reused += 1
     print(f"reuse.py: {reused} results from {args.earlier} in {runs}; {rerun} left to run",
           file=sys.stderr)

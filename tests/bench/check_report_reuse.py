@@ -16,7 +16,7 @@ import sys
 
 report_dir, out = sys.argv[1], sys.argv[2]
 sys.path.insert(0, report_dir)
-import report  # noqa: E402  (row_of and the CSV columns: how the report reads its cache)
+import report  # noqa: E402  (row_of, run_key and the CSV columns: how the report reads its cache)
 
 latest = os.path.join(report_dir, "latest")
 shutil.rmtree(out, ignore_errors=True)
@@ -41,7 +41,7 @@ with open(os.path.join(latest, "results.csv"), newline="") as f:
     rows = list(csv.DictReader(f))
 for row in rows:
     alpha = None if row["alpha"] == "" else float(row["alpha"])
-    key = f"{row['surface']}__{row['simplifier']}__{alpha}__{float(row['keep'])}.json"
+    key = report.run_key(row["surface"], row["simplifier"], alpha, float(row["keep"])) + ".json"
     rerun = (row["simplifier"] == "ddsimp-edge" and row["alpha"] in ("0.5", "1.0")) or (
         row["surface"] == "earth" and row["keep"] == "0.1" and row["alpha"] in ("", "0.0"))
     path = os.path.join(runs, key)
@@ -67,7 +67,7 @@ with open(os.path.join(latest, "scaling.csv"), newline="") as f:
             continue  # both --reruns match (ddsimp's scaling runs are at alpha 0.5)
         alpha = None if row["alpha"] == "" else float(row["alpha"])
         for rep in range(max(1, int(row["repetitions"]))):
-            key = f"{row['surface']}__{row['simplifier']}__{alpha}__{rep}.json"
+            key = report.run_key(row["surface"], row["simplifier"], alpha, rep) + ".json"
             expected_files.add(key)
             path = os.path.join(runs, key)
             if not os.path.exists(path):
