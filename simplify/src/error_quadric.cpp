@@ -170,23 +170,36 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
     return e;
 }
 
+namespace {
+
+// A quadric's error at the normalised position y with normalised data datum(j), unclamped; q(i)
+// is its i-th number, a double, or a Pair for two quadrics at once (the same operations per lane).
+template <class T, class Q, class Datum>
+T quadric_error(Q q, const Vec3& y, size_t components, Datum datum) {
+    auto dot_q = [&](size_t i) { return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2]; };
+    const T ay[3] = {q(0) * y[0] + q(1) * y[1] + q(2) * y[2],
+                     q(1) * y[0] + q(3) * y[1] + q(4) * y[2],
+                     q(2) * y[0] + q(4) * y[1] + q(5) * y[2]};
+    T e = y[0] * ay[0] + y[1] * ay[1] + y[2] * ay[2] + 2 * dot_q(6) + q(9);
+    for (size_t j = 0; j < components; ++j) {
+        const double s = datum(j);
+        const size_t gj = ErrorQuadrics::kSharedTerms + 4 * j;
+        e += q(10) * s * s - 2 * s * (dot_q(gj) + q(gj + 3));
+    }
+    return e;
+}
+
+} // namespace
+
 double ErrorQuadrics::at(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
                          double t) const {
     const double *qv = of(v), *qw = of(w);
-    const Vec3 y = scale(sub(x, centre), inv_diagonal);
     auto q = [&](size_t i) { return Pair{qv[i], qw[i]}; }; // v in lane 0, w in lane 1, as along
-    auto dot_q = [&](size_t i) { return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2]; };
-    const Pair ay[3] = {q(0) * y[0] + q(1) * y[1] + q(2) * y[2],
-                        q(1) * y[0] + q(3) * y[1] + q(4) * y[2],
-                        q(2) * y[0] + q(4) * y[1] + q(5) * y[2]};
-    Pair e = y[0] * ay[0] + y[1] * ay[1] + y[2] * ay[2] + 2 * dot_q(6) + q(9);
-    const Pair wt = q(10);
-    for (size_t j = 0; j < components; ++j) {
-        const double s =
-            ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) * inv_range[j];
-        const size_t gj = kSharedTerms + 4 * j;
-        e += wt * s * s - 2 * s * (dot_q(gj) + q(gj + 3));
-    }
+    const Pair e =
+        quadric_error<Pair>(q, scale(sub(x, centre), inv_diagonal), components, [&](size_t j) {
+            return ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
+                   inv_range[j];
+        });
     return std::max(0.0, e[0] + e[1]);
 }
 
@@ -195,22 +208,18 @@ double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32
     if (count == 0) return 0;
     const double mean = 1.0 / double(count);
     auto weight = [&](size_t i) { return weights ? weights[i] : mean; };
-    const double* q = of(v);
     Vec3 x{0, 0, 0};
     for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));
-    x = scale(sub(x, centre), inv_diagonal);
-    const Vec3 ax{q[0] * x[0] + q[1] * x[1] + q[2] * x[2], q[1] * x[0] + q[3] * x[1] + q[4] * x[2],
-                  q[2] * x[0] + q[4] * x[1] + q[5] * x[2]};
-    double e = dot(x, ax) + 2 * (q[6] * x[0] + q[7] * x[1] + q[8] * x[2]) + q[9];
-    for (size_t j = 0; j < components; ++j) {
+    const double* qv = of(v);
+    auto datum = [&](size_t j) {
         double s = 0;
         for (size_t i = 0; i < count; ++i)
             s += weight(i) * double(mesh.data_of(points[i])[offset[j]]);
-        s = (s - low[j]) * inv_range[j];
-        const double* gj = q + kSharedTerms + 4 * j;
-        e += q[10] * s * s - 2 * s * (gj[0] * x[0] + gj[1] * x[1] + gj[2] * x[2] + gj[3]);
-    }
-    return std::max(0.0, e);
+        return (s - low[j]) * inv_range[j];
+    };
+    return std::max(0.0,
+                    quadric_error<double>([&](size_t i) { return qv[i]; },
+                                          scale(sub(x, centre), inv_diagonal), components, datum));
 }
 
 Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& axis) const {
