@@ -27,6 +27,30 @@ bool spans(const uint32_t* ring, size_t n, bool closed, uint32_t p, uint32_t q) 
     }
     return false;
 }
+
+// Squared distance from p to the triangle (a, b, c): from the region of the triangle's plane that
+// p projects into (Ericson, Real-Time Collision Detection, 5.1.5).
+double distance2_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    auto to = [&](const Vec3& q) { return dot(sub(p, q), sub(p, q)); };
+    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return to(a);
+    const Vec3 bp = sub(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return to(b);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return to(add(a, scale(ab, d1 / (d1 - d3))));
+    const Vec3 cp = sub(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return to(c);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return to(add(a, scale(ac, d2 / (d2 - d6))));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+        return to(add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    const double inside = 1 / (va + vb + vc);
+    return to(add(a, add(scale(ab, vb * inside), scale(ac, vc * inside))));
+}
 } // namespace
 
 bool Simplifier::kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const {
@@ -60,6 +84,15 @@ Key Simplifier::collapse_key(uint32_t h) const {
         return {float(plan.error), length_[h]};
     }
     return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
+}
+
+double Simplifier::retraction_scale() const {
+    if (!quadric_terms_ || options_.alpha == 0) return 0;
+    // Each input triangle's plane is in the quadrics of its three corners; a collapse removes
+    // one vertex.
+    const double live = std::max(1.0, double(vertices_in_use_) - double(operations_));
+    return options_.alpha * 3 * quadrics_.area / live * quadrics_.inv_diagonal *
+           quadrics_.inv_diagonal;
 }
 
 void Simplifier::update_length(uint32_t h) {
@@ -132,18 +165,30 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
         return false;
 
     if (!placed) place(h, plan);
-    // No remaining triangle may flip, fold or turn its normal by more than the limit.
+    // No remaining triangle may flip, fold or turn its normal by more than the limit. The same
+    // walk finds how close the new triangles come to each end (see retraction_scale).
     const Vec3 ref = ref_of(a, b);
+    const double retraction = retraction_scale();
+    const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
+    double near_a = INFINITY, near_b = INFINITY;
     bool ok = true;
     auto check_star = [&](uint32_t v) {
         mesh_.for_each_outgoing(v, [&](uint32_t g) {
             const uint32_t t = g / 3;
             if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
-            if (!keeps_facing(g, plan.point, ref)) ok = false, plan.refused_at = g;
+            if (!keeps_facing(g, plan.point, ref)) {
+                ok = false, plan.refused_at = g;
+            } else if (retraction > 0) {
+                const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
+                near_a = std::min(near_a, distance2_to_triangle(pa, plan.point, q, r));
+                near_b = std::min(near_b, distance2_to_triangle(pb, plan.point, q, r));
+            }
         });
     };
     check_star(a);
     check_star(b);
+    // A collapse that leaves no other triangle (a closed tetrahedron's last) retracts nowhere.
+    plan.retraction = std::isinf(near_a) ? 0 : retraction * (near_a + near_b);
     return ok;
 }
 
@@ -354,13 +399,23 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     refresh_around(changed, k + 1, kept_from);
 }
 
-void Simplifier::step_collapse(uint32_t h) {
+void Simplifier::step_collapse(Member& candidate) {
     // Gone, or next to an earlier operation of this pass (which may also have merged h's edge
     // into another): its key is out of date, the next pass ranks it again.
-    const uint32_t a = mesh_.origin[h];
+    const uint32_t h = candidate.id, a = mesh_.origin[h];
     if (a == kNone || busy_[a] == pass_ || busy_[mesh_.dest(h)] == pass_) return;
     CollapsePlan plan;
     if (plan_collapse(h, plan)) {
+        // Its key left the retraction out (too costly for every key): if that makes it heavier
+        // than the share the pass goes through, it waits for the next pass with its full key.
+        const float full = float(plan.error + plan.retraction);
+        const float limit =
+            std::min(std::max(candidate.key.weight, share_limit_), float(options_.max_weight));
+        if (full > limit && !raised_[h]) {
+            candidate.key.weight = full;
+            raised_[h] = 1;
+            return;
+        }
         apply_collapse(plan);
         return;
     }

@@ -44,6 +44,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     components = inv_diagonal > 0 ? m_all : 0;
     size = kSharedTerms + 4 * components;
     values.assign(capacity * size, 0.0);
+    area = 0;
     if (inv_diagonal == 0) return; // a single point: nothing can move
 
     auto position = [&](uint32_t v) { return scale(sub(mesh.point(v), centre), inv_diagonal); };
@@ -60,6 +61,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         const double nn = dot(normal, normal);
         if (!(nn > 0)) continue; // no plane, no gradient
         const double area = 0.5 * std::sqrt(nn);
+        this->area += area;
         // The terms that are summed into; the per-component G and D below are assigned.
         std::fill_n(face.begin(), kSharedTerms, 0.0);
         const Vec3 unit = scale(normal, 1 / std::sqrt(nn));

@@ -58,6 +58,8 @@ struct ErrorQuadrics {
     size_t components = 0;      // m
     size_t size = kSharedTerms; // numbers per vertex
     std::vector<double> values;
+    // The input surface's area (normalised units: diagonals squared).
+    double area = 0;
     // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
     Vec3 centre{0, 0, 0};
     double inv_diagonal = 0;

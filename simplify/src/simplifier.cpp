@@ -91,6 +91,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     rekey_.assign(capacity, 0);
     if (collapse) {
         fail_at_.assign(surface.triangles.size(), kNone);
+        raised_.assign(surface.triangles.size(), 0);
         seen_.assign(capacity, 0);
     }
 
@@ -105,6 +106,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     }
 
     const size_t n = surface.vertex_count();
+    for (uint32_t v = 0; v < n; ++v) vertices_in_use_ += mesh_.kind[v] != VertexKind::Dead;
     quadric_terms_ = options.terms == Terms::ErrorQuadrics;
     least_error_ =
         options.strategy == Strategy::EdgeCollapse && options.placement == Placement::LeastError;
@@ -245,9 +247,12 @@ void Simplifier::rank_candidates(size_t& share) {
         const uint32_t b = collapse ? mesh_.dest(id) : kNone;
         if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
         const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
-        if (m.keyed == kNever || changed > m.keyed)
+        if (m.keyed == kNever || changed > m.keyed) {
             m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
-        if (!std::isinf(m.key.weight)) scratch_.push_back(detail::Candidate::make(m.key, id));
+            if (collapse) raised_[id] = 0;
+        }
+        if (!std::isinf(m.key.weight))
+            scratch_.push_back(detail::Candidate::make(m.key, uint32_t(kept - 1)));
     }
     pool_.resize(kept);
     share = scratch_.empty()
@@ -288,6 +293,7 @@ ProgressiveRecord Simplifier::run() {
                 continue;
             }
             if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
+            share_limit_ = order_[share - 1].weight();
             if (options_.strategy == Strategy::EdgeCollapse)
                 detail::runs_in_id_order(order_, share, kPassRuns, scratch_);
             ++pass_;
@@ -296,9 +302,9 @@ ProgressiveRecord Simplifier::run() {
                 if (c.weight() > options_.max_weight) continue; // heavier ones may follow
                 const size_t before = operations_;
                 if (options_.strategy == Strategy::EdgeCollapse)
-                    step_collapse(c.id);
+                    step_collapse(pool_[c.id]);
                 else
-                    step_removal(c.id);
+                    step_removal(pool_[c.id].id);
                 if (operations_ == before) continue;
                 record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
                 if (!report_progress(mesh_.live_triangles, target)) return StopReason::Cancelled;

@@ -32,6 +32,7 @@ private:
         detail::Vec3 point;
         double along;        // position of `point` along the edge, for the data
         double error;        // Terms::ErrorQuadrics: the error of both ends at `point`
+        double retraction;   // Terms::ErrorQuadrics: what `error` misses (retraction_scale)
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
@@ -79,13 +80,21 @@ private:
     // has changed since.
     bool collapsible(uint32_t h, uint32_t a, uint32_t b) const;
     detail::Key collapse_key(uint32_t h) const;
+    // Terms::ErrorQuadrics with alpha > 0: the price of a squared distance (raw units) by which
+    // the surface retracts from an end of a collapse, the geometric quadric area of an average
+    // vertex now; 0 otherwise. A quadric holds the planes of the triangles a vertex stands for,
+    // and a thin spike's planes all run along it: pulling its tip back costs them almost nothing,
+    // though the surface no longer reaches where the tip was. So a plan also prices the distance
+    // from each end to the new triangles, as if the end stood for an average vertex's area.
+    double retraction_scale() const;
     void update_length(uint32_t h); // after a corner of h's triangle moved
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
     void apply_collapse(const CollapsePlan& plan);
-    void step_collapse(uint32_t h);
+    struct Member;
+    void step_collapse(Member& candidate);
 
     // vertex_removal.cpp
     bool removable(uint32_t v) const;
@@ -130,6 +139,8 @@ private:
         uint32_t id, keyed;
         detail::Key key;
     };
+    // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
+    // so they are in id order too.
     std::vector<Member> pool_;
     std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
@@ -155,6 +166,13 @@ private:
     // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
     // sum of its corners' reference normals instead of each (see run()).
     bool relaxed_facing_ = false;
+    // Edge collapse with a retraction (see retraction_scale): the heaviest key of the pass's
+    // share. A plan whose retraction makes it heavier than this and than its own key waits for
+    // the next pass, which ranks it with the heavier key; raised_[id] says it was raised since
+    // its key was last computed, so it waits only once.
+    float share_limit_ = 0;
+    std::vector<uint8_t> raised_;
+    size_t vertices_in_use_ = 0; // by the input's triangles
     // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
     // where a collapse moves a vertex rather than recomputed for every key.
     std::vector<float> length_;
