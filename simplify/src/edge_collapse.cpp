@@ -187,7 +187,7 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     };
     check_star(a);
     check_star(b);
-    // A collapse that leaves no other triangle (a closed tetrahedron's last) retracts nowhere.
+    // Not priced, or no other triangle left (a closed tetrahedron's last collapse): nothing.
     plan.retraction = std::isinf(near_a) ? 0 : retraction * (near_a + near_b);
     return ok;
 }
