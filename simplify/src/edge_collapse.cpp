@@ -407,11 +407,12 @@ void Simplifier::step_collapse(Member& candidate) {
     CollapsePlan plan;
     if (plan_collapse(h, plan)) {
         // Its key left the retraction out (too costly for every key): if that makes it heavier
-        // than the share the pass goes through, it waits for the next pass with its full key.
+        // than the share the pass goes through, it waits for the next pass with its full key
+        // (once: the retraction grows a little as the surface coarsens), and always if it makes
+        // it heavier than Options::max_weight.
         const float full = float(plan.error + plan.retraction);
-        const float limit =
-            std::min(std::max(candidate.key.weight, share_limit_), float(options_.max_weight));
-        if (full > limit && !raised_[h]) {
+        if ((full > std::max(candidate.key.weight, share_limit_) && !raised_[h]) ||
+            full > options_.max_weight) {
             candidate.key.weight = full;
             raised_[h] = 1;
             return;
