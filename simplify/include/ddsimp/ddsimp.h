@@ -134,7 +134,9 @@ enum class Terms {
     // bounding-box diagonals), grad the data error (area x squared difference to the input's
     // linear interpolation, data in field ranges), both accumulated per vertex as quadrics and
     // evaluated where the operation puts the vertex. An edge weighs the error of its two ends at
-    // the new point; a removed vertex the error of moving it onto its best neighbour.
+    // the new point plus, with alpha > 0, how far its new triangles retract from the ends (the
+    // squared distances, priced at an average vertex's area); a removed vertex weighs its error
+    // where the new triangles pass it (docs/algorithm.md).
     ErrorQuadrics,
     // Frank & Lang's: curv the absolute angle deficit / pi, grad the steepest neighbour's
     // ||df||_1 / ||dx||_1 (see vertex_curvature, vertex_gradient), each divided by its mean over
