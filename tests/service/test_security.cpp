@@ -180,8 +180,11 @@ TEST(Security, SessionsAreIsolatedByTheirKeys) {
     EXPECT_EQ(fs::exists(dir / (id + ".ddsurf")), true); // stored once on disk
     b.send(v1::ListSurfaces{});
     const v1::SurfaceList seen_by_b = b.expect<v1::SurfaceList>();
-    for (const auto& s : seen_by_b.surfaces())
-        if (s.surface() == id) EXPECT_EQ(s.name(), "mine.vtp"); // its own label, not A's
+    for (const auto& s : seen_by_b.surfaces()) {
+        if (s.surface() == id) {
+            EXPECT_EQ(s.name(), "mine.vtp"); // its own label, not A's
+        }
+    }
 
     // The right key: C joins A's session, sees its members, its surface and its levels.
     const v1::SessionState same = join(c, "lab", "k-1");
@@ -206,10 +209,12 @@ TEST(Security, SessionsAreIsolatedByTheirKeys) {
     for (;;) {
         const std::optional<protocol::Frame> f = b.next();
         ASSERT_TRUE(f);
-        if (f->type == v1::MESH_BEGIN)
+        if (f->type == v1::MESH_BEGIN) {
             EXPECT_NE(protocol::parse_payload<v1::MeshBegin>(*f).keep(), 0.25f);
-        if (f->type == v1::SESSION_STATE)
+        }
+        if (f->type == v1::SESSION_STATE) {
             EXPECT_EQ(protocol::parse_payload<v1::SessionState>(*f).members_size(), 1);
+        }
         if (f->type == v1::SURFACE_LIST) break;
     }
 
