@@ -28,29 +28,6 @@ bool spans(const uint32_t* ring, size_t n, bool closed, uint32_t p, uint32_t q) 
     return false;
 }
 
-// Squared distance from p to the triangle (a, b, c): from the region of the triangle's plane that
-// p projects into (Ericson, Real-Time Collision Detection, 5.1.5).
-double distance2_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-    auto to = [&](const Vec3& q) { return dot(sub(p, q), sub(p, q)); };
-    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return to(a);
-    const Vec3 bp = sub(p, b);
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return to(b);
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) return to(add(a, scale(ab, d1 / (d1 - d3))));
-    const Vec3 cp = sub(p, c);
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return to(c);
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) return to(add(a, scale(ac, d2 / (d2 - d6))));
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
-        return to(add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
-    const double inside = 1 / (va + vb + vc);
-    return to(add(a, add(scale(ab, vb * inside), scale(ac, vc * inside))));
-}
 } // namespace
 
 bool Simplifier::kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const {
@@ -180,8 +157,12 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
                 ok = false, plan.refused_at = g;
             } else if (retraction > 0) {
                 const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
-                near_a = std::min(near_a, distance2_to_triangle(pa, plan.point, q, r));
-                near_b = std::min(near_b, distance2_to_triangle(pb, plan.point, q, r));
+                auto distance2 = [&](const Vec3& x) {
+                    const Vec3 d = sub(x, closest_on_triangle(x, plan.point, q, r).point);
+                    return dot(d, d);
+                };
+                near_a = std::min(near_a, distance2(pa));
+                near_b = std::min(near_b, distance2(pb));
             }
         });
     };

@@ -6,6 +6,7 @@
 //   quadrics mix the two by alpha and cannot be split.
 // - Vertex removal keeps the vertices and moves the surface over the removed ones: each removed
 //   input vertex is measured against the triangle that covers it.
+#include "error_quadric.h"
 #include "working_mesh.h"
 
 #include <algorithm>
@@ -32,51 +33,11 @@ constexpr uint32_t kDead = 0xffffffffu;
 // A is symmetric, stored as xx, xy, xz, yy, yz, zz.
 constexpr size_t kDataPart = 10, kWeight = 20, kPerComponent = 21;
 
-void add_quadratic(double* q, const Vec3& n, double e, double w) {
-    q[0] += w * n[0] * n[0], q[1] += w * n[0] * n[1], q[2] += w * n[0] * n[2];
-    q[3] += w * n[1] * n[1], q[4] += w * n[1] * n[2], q[5] += w * n[2] * n[2];
-    for (int k = 0; k < 3; ++k) q[6 + k] += w * e * n[k];
-    q[9] += w * e * e;
-}
-
 // x.A.x + 2 b.x + c of the 10 numbers at q.
 double quadratic_at(const double* q, const Vec3& x) {
     const Vec3 ax{q[0] * x[0] + q[1] * x[1] + q[2] * x[2], q[1] * x[0] + q[3] * x[1] + q[4] * x[2],
                   q[2] * x[0] + q[4] * x[1] + q[5] * x[2]};
     return dot(x, ax) + 2 * (q[6] * x[0] + q[7] * x[1] + q[8] * x[2]) + q[9];
-}
-
-// The point of triangle (a, b, c) closest to p, as barycentric weights (Ericson, Real-Time
-// Collision Detection, 5.1.5).
-std::array<double, 3> closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
-                                          const Vec3& c) {
-    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
-    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0 && d2 <= 0) return {1, 0, 0};
-    const Vec3 bp = sub(p, b);
-    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3 >= 0 && d4 <= d3) return {0, 1, 0};
-    const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-        const double v = d1 / (d1 - d3);
-        return {1 - v, v, 0};
-    }
-    const Vec3 cp = sub(p, c);
-    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0 && d5 <= d6) return {0, 0, 1};
-    const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-        const double w = d2 / (d2 - d6);
-        return {1 - w, 0, w};
-    }
-    const double va = d3 * d6 - d5 * d4;
-    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return {0, 1 - w, w};
-    }
-    const double denom = 1 / (va + vb + vc);
-    const double v = vb * denom, w = vc * denom;
-    return {1 - v - w, v, w};
 }
 
 class ErrorMeasure {
@@ -173,7 +134,7 @@ ErrorMeasure::ErrorMeasure(const Surface& vertices, const std::vector<uint32_t>&
         const double area = 0.5 * std::sqrt(nn);
         std::fill(face.begin(), face.end(), 0.0);
         const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
-        add_quadratic(face.data(), unit, -dot(unit, x0), area);
+        detail::add_plane(face.data(), unit, -dot(unit, x0), area);
         // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
         data(v[0], s0.data()), data(v[1], s1.data()), data(v[2], s2.data());
         const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
@@ -183,7 +144,7 @@ ErrorMeasure::ErrorMeasure(const Surface& vertices, const std::vector<uint32_t>&
             const Vec3 g =
                 detail::add(scale(across1, s1[j] - s0[j]), scale(across2, s2[j] - s0[j]));
             const double d = s0[j] - dot(g, x0);
-            add_quadratic(face.data() + kDataPart, g, d, area);
+            detail::add_plane(face.data() + kDataPart, g, d, area);
             double* gj = face.data() + kPerComponent + 4 * j;
             for (int k = 0; k < 3; ++k) gj[k] = area * g[k];
             gj[3] = area * d;
@@ -215,7 +176,7 @@ ErrorMeasure::ErrorMeasure(const Surface& vertices, const std::vector<uint32_t>&
         if (!(length > 0)) continue;
         const Vec3 unit = scale(across, 1 / length);
         std::fill(face.begin(), face.begin() + kDataPart, 0.0);
-        add_quadratic(face.data(), unit, -dot(unit, xa), dot(edge, edge));
+        detail::add_plane(face.data(), unit, -dot(unit, xa), dot(edge, edge));
         for (uint32_t c : {a, b})
             for (size_t k = 0; k < kDataPart; ++k) of(c)[k] += face[k];
     }
@@ -309,7 +270,7 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
                 const uint32_t* c = &slots[3 * size_t(t)];
                 const Vec3 a = measure.point(c[0]), b = measure.point(c[1]),
                            d = measure.point(c[2]);
-                const auto w = closest_on_triangle(x, a, b, d);
+                const auto w = detail::closest_on_triangle(x, a, b, d).weights;
                 const Vec3 q =
                     detail::add(detail::add(scale(a, w[0]), scale(b, w[1])), scale(d, w[2]));
                 const double distance = norm(sub(q, x));

@@ -56,6 +56,43 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 inline double norm(const Vec3& a) {
     return std::sqrt(dot(a, a));
 }
+// The point of triangle (a, b, c) closest to p, and its barycentric weights.
+struct ClosestPoint {
+    Vec3 point;
+    std::array<double, 3> weights;
+};
+// By the region of the triangle's plane that p projects into (Ericson, Real-Time Collision
+// Detection, 5.1.5).
+inline ClosestPoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
+                                        const Vec3& c) {
+    const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return {a, {1, 0, 0}};
+    const Vec3 bp = sub(p, b);
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return {b, {0, 1, 0}};
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        return {add(a, scale(ab, v)), {1 - v, v, 0}};
+    }
+    const Vec3 cp = sub(p, c);
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return {c, {0, 0, 1}};
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double w = d2 / (d2 - d6);
+        return {add(a, scale(ac, w)), {1 - w, 0, w}};
+    }
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {add(b, scale(sub(c, b), w)), {0, 1 - w, w}};
+    }
+    const double denom = 1 / (va + vb + vc);
+    const double v = vb * denom, w = vc * denom;
+    return {add(a, add(scale(ab, v), scale(ac, w))), {1 - v - w, v, w}};
+}
 
 // Feature and tolerance settings, as cosines.
 struct Limits {
