@@ -8,9 +8,10 @@ EARLIER_DIR holds an earlier report's results.csv and scaling.csv (bench/report/
 committed one). Every row becomes a cached result in OUT_DIR/runs, the cache that
 `run.sh --resume` reads (report.py: cached_run), except the rows that a --rerun SPEC matches and
 report.py's RENDER_SURFACE at GOAL_LEVEL with α = 0 and the peers, whose reductions render.py
-draws (only a run writes them). A SPEC is space-separated FIELD=VALUE,VALUE... with FIELD one of surface, simplifier, alpha
-(empty for a peer) and keep ("scaling" for a scaling point); a row matches when every field named
-has one of its values ("*" ends a value as a prefix). Example, a change to edge collapse at α > 0:
+draws (only a run writes them). A SPEC is space-separated FIELD=VALUE,VALUE... with FIELD one of
+surface, simplifier, alpha (empty for a peer) and keep ("scaling" for a scaling point); a row
+matches when every field named has one of its values ("*" ends a value as a prefix). Example, a
+change to edge collapse at α > 0:
 
     reuse.py bench/report/latest /tmp/report --rerun 'simplifier=ddsimp-edge alpha=0.5,1.0'
 
@@ -120,7 +121,7 @@ def main():
                 for rep in range(max(1, int(row["repetitions"]))):  # 0: it failed, once
                     write(report.run_key(row["surface"], row["simplifier"],
                                          alpha_of(row["alpha"]), rep), cached_scaling(row))
-                reused += 1
+                    reused += 1  # one result per repetition, as report.py counts them
     print(f"reuse.py: {reused} results from {args.earlier} in {runs}; {rerun} left to run",
           file=sys.stderr)
 
