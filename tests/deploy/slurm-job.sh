@@ -31,8 +31,10 @@ exec "$@"
 SHIM
 chmod +x "$work/bin/srun"
 
-# A pair of ports of our own, the first of them taken by another listener.
-base=$((20000 + 2 * (RANDOM % 10000)))
+# A pair of ports of our own, the first of them taken by another listener. Below Linux's ephemeral
+# range (32768 up): there the other tests' servers (port 0) and connections take ports at any
+# moment, and one took the job's port between its check and its bind.
+base=$((20000 + 2 * (RANDOM % 6000)))
 python3 -c "import socket, time
 s = socket.socket(); s.bind(('127.0.0.1', $base)); s.listen(); time.sleep(300)" &
 pids+=($!)
