@@ -63,15 +63,6 @@ Key Simplifier::collapse_key(uint32_t h) const {
     return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
 }
 
-double Simplifier::retraction_scale() const {
-    if (!quadric_terms_ || options_.alpha == 0) return 0;
-    // Each input triangle's plane is in the quadrics of its three corners; a collapse removes
-    // one vertex.
-    const double live = std::max(1.0, double(vertices_in_use_) - double(operations_));
-    return options_.alpha * 3 * quadrics_.area / live * quadrics_.inv_diagonal *
-           quadrics_.inv_diagonal;
-}
-
 void Simplifier::update_length(uint32_t h) {
     length_[h] = float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
 }

@@ -218,6 +218,15 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t ke
     });
 }
 
+double Simplifier::retraction_scale() const {
+    if (!quadric_terms_ || options_.alpha == 0) return 0;
+    // Each input triangle's plane is in the quadrics of its three corners; an operation removes
+    // one vertex.
+    const double live = std::max(1.0, double(vertices_in_use_) - double(operations_));
+    return options_.alpha * 3 * quadrics_.area / live * quadrics_.inv_diagonal *
+           quadrics_.inv_diagonal;
+}
+
 void Simplifier::rank_candidates(size_t& share) {
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
     // The pool without what died, merged with what was born, in id order; every candidate with

@@ -72,6 +72,14 @@ private:
     // many of the lightest candidates, sorted lightest first, into order_.
     void rank_candidates(size_t& share);
     bool report_progress(size_t live, size_t target);
+    // Terms::ErrorQuadrics with alpha > 0: the price of a squared distance (raw units) by which
+    // the surface retracts from a vertex an operation removes or moves, the geometric quadric
+    // area of an average vertex now; 0 otherwise. A quadric holds the planes of the triangles a
+    // vertex stands for, and a thin spike's or a corner's planes all meet at it: pulling its tip
+    // back costs them little when it stands for a small area, though the surface no longer
+    // reaches where the tip was. So a plan also prices the distance from the vertex to the new
+    // triangles, as if it stood for an average vertex's area.
+    double retraction_scale() const;
 
     // edge_collapse.cpp
     // a = origin of h, b = its destination (the callers have them).
@@ -80,13 +88,6 @@ private:
     // has changed since.
     bool collapsible(uint32_t h, uint32_t a, uint32_t b) const;
     detail::Key collapse_key(uint32_t h) const;
-    // Terms::ErrorQuadrics with alpha > 0: the price of a squared distance (raw units) by which
-    // the surface retracts from an end of a collapse, the geometric quadric area of an average
-    // vertex now; 0 otherwise. A quadric holds the planes of the triangles a vertex stands for,
-    // and a thin spike's planes all run along it: pulling its tip back costs them almost nothing,
-    // though the surface no longer reaches where the tip was. So a plan also prices the distance
-    // from each end to the new triangles, as if the end stood for an average vertex's area.
-    double retraction_scale() const;
     void update_length(uint32_t h); // after a corner of h's triangle moved
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
@@ -111,7 +112,8 @@ private:
                            const double (*xy)[2]) const;
     // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
     // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
-    // the data interpolated there; the nearest triangle's nearest point if none holds it.
+    // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside
+    // the surface, plus the retraction from v to that point (see retraction_scale).
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
                                const double (*xy)[2]) const;
     void apply_removal(const RemovalPlan& plan);

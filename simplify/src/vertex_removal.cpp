@@ -274,7 +274,19 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
     for (double& w : best) w = sum > 0 ? w / sum : 1.0 / 3;
     const uint32_t corners[3] = {plan.ring[triangles[at][0]], plan.ring[triangles[at][1]],
                                  plan.ring[triangles[at][2]]};
-    return quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3);
+    const double error = quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3);
+    // On a boundary, the planes through its edges already price pulling it in.
+    if (plan.boundary) return error;
+    Vec3 x{0, 0, 0};
+    for (int k = 0; k < 3; ++k) x = detail::add(x, scale(mesh_.point(corners[k]), best[k]));
+    const Vec3 d = sub(x, mesh_.point(plan.vertex));
+    // At three times a collapse's price: a collapse pays for both ends and puts its new vertex
+    // where the error is least, a removal can only drop the vertex. (Measured on the report's
+    // surfaces, α = 1, 5% and 10%: factor 3 kept their Hausdorff distance lowest, 1 and 2 let
+    // more corners and tips go early.) One within rounding (a flat star's) is none: it would
+    // break the ties of 0.
+    const double retraction = 3 * retraction_scale() * dot(d, d);
+    return retraction > quadrics_.noise(plan.vertex) ? error + retraction : error;
 }
 
 bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],

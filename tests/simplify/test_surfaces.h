@@ -238,6 +238,52 @@ inline Surface icosphere(int level) {
     return s;
 }
 
+// A thin blade: icosphere(4) scaled to 8 x 2 x kThinBladeThickness. The planes of the triangles
+// around its rim are nearly parallel to the blade, so they hardly price pulling the rim inwards.
+inline constexpr double kThinBladeThickness = 0.06;
+inline Surface thin_blade() {
+    Surface s = icosphere(4);
+    for (size_t v = 0; v < s.vertex_count(); ++v) {
+        s.positions[3 * v] *= 4.0f;
+        s.positions[3 * v + 2] *= float(kThinBladeThickness / 2);
+    }
+    return s;
+}
+
+// Distance from p to the triangle (a, b, c), by its three edges and, where p projects inside, its
+// plane (brute force, independent of the library's closest-point code).
+inline double distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    auto to_segment = [&](const Vec3& u, const Vec3& w) {
+        const Vec3 d = w - u;
+        const double t = std::clamp(dot(p - u, d) / dot(d, d), 0.0, 1.0);
+        return norm(p - (u + t * d));
+    };
+    double best = std::min({to_segment(a, b), to_segment(b, c), to_segment(c, a)});
+    const Vec3 n = cross(b - a, c - a);
+    const double nn = dot(n, n);
+    if (nn == 0) return best;
+    const Vec3 q = p - (dot(p - a, n) / nn) * n; // p's projection on the plane
+    if (dot(cross(b - a, q - a), n) >= 0 && dot(cross(c - b, q - b), n) >= 0 &&
+        dot(cross(a - c, q - c), n) >= 0)
+        best = std::min(best, std::abs(dot(p - a, n)) / std::sqrt(nn));
+    return best;
+}
+
+// The largest distance from an input vertex to the reduction (brute force over its triangles).
+inline double farthest_input_vertex(const Surface& in, const Surface& out) {
+    double farthest = 0;
+    for (size_t v = 0; v < in.vertex_count(); ++v) {
+        double nearest = INFINITY;
+        for (size_t t = 0; t < out.triangle_count(); ++t) {
+            const auto [a, b, c] = corners(out, t);
+            nearest = std::min(nearest, distance_to_triangle(position(in, v), position(out, a),
+                                                             position(out, b), position(out, c)));
+        }
+        farthest = std::max(farthest, nearest);
+    }
+    return farthest;
+}
+
 // Flat grid over [0,1]^2 in z = 0: vertex (i, j) = (i/nx, j/ny, 0) has index j*(nx+1) + i; each
 // cell is split along its (i,j)-(i+1,j+1) diagonal into (a,b,c) and (a,c,d), normal +z.
 // V (nx+1)(ny+1), F 2 nx ny, E nx(ny+1) + ny(nx+1) + nx ny, boundary edges 2(nx+ny), 1 loop,
