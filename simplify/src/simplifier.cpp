@@ -86,12 +86,12 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     const size_t ids = collapse ? surface.triangles.size() : capacity;
     fail_.assign(ids, 0);
     listed_.assign(ids, 0);
+    raised_.assign(ids, 0);
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, 0);
     rekey_.assign(capacity, 0);
     if (collapse) {
         fail_at_.assign(surface.triangles.size(), kNone);
-        raised_.assign(surface.triangles.size(), 0);
         seen_.assign(capacity, 0);
     }
 
@@ -180,6 +180,7 @@ void Simplifier::refresh_vertex(uint32_t v) {
         weight_[v] = ring_error && (k == VertexKind::Free || k == VertexKind::Line)
                          ? float(removal_error(v, ring, ring_size))
                          : 0.0f;
+    if (removal) raised_[v] = 0; // an estimate again
     else
         weight_[v] =
             float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +

@@ -170,9 +170,11 @@ private:
     bool relaxed_facing_ = false;
     // Edge collapse with a retraction (see retraction_scale): the heaviest key of the pass's
     // share. A plan whose retraction makes it heavier than this and than its own key waits for
-    // the next pass, which ranks it with the heavier key; raised_[id] says it was raised since
-    // its key was last computed, so it waits only once.
+    // the next pass, which ranks it with the heavier key.
     float share_limit_ = 0;
+    // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
+    // was last computed, so it waits only once: the retraction's price grows a little as the
+    // surface coarsens, and a plan made again later would be heavier again.
     std::vector<uint8_t> raised_;
     size_t vertices_in_use_ = 0; // by the input's triangles
     // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date

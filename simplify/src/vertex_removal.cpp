@@ -502,9 +502,11 @@ void Simplifier::step_removal(uint32_t v) {
         return;
     }
     // Its key was an estimate (see weight_): a heavier re-triangulation becomes its key, and
-    // the next pass ranks it with that.
-    if (quadric_terms_ && float(plan.error) > weight_[v]) {
-        weight_[v] = float(plan.error);
+    // the next pass ranks it with that (once, see raised_; always above Options::max_weight).
+    const float error = float(plan.error);
+    if (quadric_terms_ && error > weight_[v] && (!raised_[v] || error > options_.max_weight)) {
+        weight_[v] = error;
+        raised_[v] = 1;
         rekey_[v] = pass_;
         return;
     }
