@@ -136,7 +136,8 @@ enum class Terms {
     // evaluated where the operation puts the vertex. An edge weighs the error of its two ends at
     // the new point plus, with alpha > 0, how far its new triangles retract from the ends (the
     // squared distances, priced at an average vertex's area); a removed vertex weighs its error
-    // where the new triangles pass it (docs/algorithm.md).
+    // where the new triangles pass it plus, with alpha > 0 and off a boundary, their distance
+    // from it, priced the same way (docs/algorithm.md).
     ErrorQuadrics,
     // Frank & Lang's: curv the absolute angle deficit / pi, grad the steepest neighbour's
     // ||df||_1 / ||dx||_1 (see vertex_curvature, vertex_gradient), each divided by its mean over
