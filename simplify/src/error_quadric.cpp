@@ -206,12 +206,13 @@ double ErrorQuadrics::at(uint32_t v, uint32_t w, const Vec3& x, const float* fa,
 }
 
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
-                               const double* weights, size_t count) const {
+                               const double* weights, size_t count, Vec3* position) const {
     if (count == 0) return 0;
     const double mean = 1.0 / double(count);
     auto weight = [&](size_t i) { return weights ? weights[i] : mean; };
     Vec3 x{0, 0, 0};
     for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));
+    if (position) *position = x;
     const double* qv = of(v);
     auto datum = [&](size_t j) {
         double s = 0;

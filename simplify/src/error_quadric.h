@@ -96,9 +96,10 @@ struct ErrorQuadrics {
     // (raw units), its data held: 2 grad.d + d.A.d, exactly, as the error is quadratic.
     double change(const SegmentSlope& slope, double t, const Vec3& offset) const;
     // The error of vertex v's quadric at the blend sum_i weights[i] * points[i] of positions and
-    // data (weights summing to 1; nullptr: the mean).
+    // data (weights summing to 1; nullptr: the mean); the blended position (raw units) into
+    // `position` if given.
     double at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
-                    const double* weights, size_t count) const;
+                    const double* weights, size_t count, Vec3* position = nullptr) const;
     // Errors of v's quadric closer than this are equal (rounding).
     double noise(uint32_t v) const {
         const double* q = of(v);

@@ -184,7 +184,10 @@ void Simplifier::refresh_vertex(uint32_t v) {
         weight_[v] =
             float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
                   (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
-    if (removal) shortest_[v] = float(shortest), raised_[v] = 0; // an estimate again
+    if (removal) {
+        shortest_[v] = float(shortest);
+        raised_[v] = 0; // its key is an estimate again
+    }
 }
 
 // After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are

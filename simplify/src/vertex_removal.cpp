@@ -274,11 +274,10 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
     for (double& w : best) w = sum > 0 ? w / sum : 1.0 / 3;
     const uint32_t corners[3] = {plan.ring[triangles[at][0]], plan.ring[triangles[at][1]],
                                  plan.ring[triangles[at][2]]};
-    const double error = quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3);
+    Vec3 x{0, 0, 0};
+    const double error = quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3, &x);
     // On a boundary, the planes through its edges already price pulling it in.
     if (plan.boundary) return error;
-    Vec3 x{0, 0, 0};
-    for (int k = 0; k < 3; ++k) x = detail::add(x, scale(mesh_.point(corners[k]), best[k]));
     const Vec3 d = sub(x, mesh_.point(plan.vertex));
     // At three times a collapse's price: a collapse pays for both ends and puts its new vertex
     // where the error is least, a removal can only drop the vertex. (Measured on the report's
