@@ -203,10 +203,9 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     // t = 1 (the other placements need the error at their point only).
     SegmentError error;
     // Between two free ends the least-error point may also leave the edge sideways, to where the
-    // error is least, keeping its projection on the edge (and so its data); not with the data
-    // alone (alpha = 0), which does not say where the surface is.
-    const bool may_leave_edge =
-        least_error_ && ka == VertexKind::Free && kb == VertexKind::Free && options_.alpha > 0;
+    // error is least, keeping its projection on the edge (and so its data): the quadrics' geometry
+    // (kMinGeometryWeight) says where the surface is.
+    const bool may_leave_edge = least_error_ && ka == VertexKind::Free && kb == VertexKind::Free;
     SegmentSlope slope;
     double t = 0.5, sideways_change = 0;
     bool off_edge = false;

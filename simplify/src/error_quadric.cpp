@@ -21,11 +21,11 @@ void add_plane(double* q, const Vec3& n, double e, double w) {
     q[9] += w * e * e;
 }
 
-void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double alpha,
-                          size_t capacity) {
+void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry,
+                          double data, size_t capacity) {
     // Scales: the bounding box of the live vertices, each counted component's range.
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    const size_t m_all = alpha < 1 ? gradient.components.size() : 0;
+    const size_t m_all = data > 0 ? gradient.components.size() : 0;
     offset.assign(m_all, 0), low.assign(m_all, INFINITY), inv_range.assign(m_all, 0);
     for (size_t j = 0; j < m_all; ++j)
         offset[j] = gradient.components[j].first, inv_range[j] = gradient.components[j].second;
@@ -65,8 +65,8 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         // The terms that are summed into; the per-component G and D below are assigned.
         std::fill_n(face.begin(), kSharedTerms, 0.0);
         const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
-        if (alpha > 0) add_plane(face.data(), unit, -dot(unit, x0), alpha * area);
-        const double w = (1 - alpha) * area;
+        if (geometry > 0) add_plane(face.data(), unit, -dot(unit, x0), geometry * area);
+        const double w = data * area;
         if (components > 0) face[10] = w;
         // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
         const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
@@ -87,7 +87,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         for (uint32_t c : v)
             for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
     }
-    if (alpha == 0) return;
+    if (geometry == 0) return;
     // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like a
     // triangle on the edge, so that sliding a boundary vertex off its line costs what it does.
     for (uint32_t h = 0; h < halfedges; ++h) {
@@ -99,7 +99,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         if (!(nn > 0)) continue;
         const Vec3 unit = scale(normal, 1 / nn);
         std::fill(face.begin(), face.end(), 0.0);
-        add_plane(face.data(), unit, -dot(unit, xa), alpha * dot(edge, edge));
+        add_plane(face.data(), unit, -dot(unit, xa), geometry * dot(edge, edge));
         for (uint32_t c : {a, b})
             for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
     }

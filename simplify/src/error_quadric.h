@@ -7,8 +7,9 @@
 // input data at the vertex's position (projected into the triangle's plane). Positions are
 // measured in bounding-box diagonals and every data component in its field's range, the scales
 // `ddsimp compare` reports errors in, so both terms are unit-free in the same way and
-// alpha * geometric + (1 - alpha) * data is one quadric. Per vertex 11 + 4m numbers (m: the data
-// components that count, 0 when alpha = 1): A (6, symmetric 3x3), b (3), c, W, then per component
+// max(alpha, kMinGeometryWeight) * geometric + (1 - alpha) * data is one quadric (simplifier.h).
+// Per vertex 11 + 4m numbers (m: the data components that count, 0 when alpha = 1): A (6,
+// symmetric 3x3), b (3), c, W, then per component
 // G (3) and D, with
 //     E(x, s) = x.A.x + 2 b.x + c + W s.s - 2 sum_j s_j (G_j.x + D_j).
 // A collapse adds its two ends' quadrics; a removal shares the vertex's among its ring.
@@ -68,8 +69,9 @@ struct ErrorQuadrics {
 
     // The quadrics of every live vertex of `mesh` (slots up to `capacity`), from its input
     // triangles and, for the geometry, planes through its boundary edges perpendicular to the
-    // surface, so that a boundary keeps its shape. `gradient` says which data components count.
-    void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double alpha,
+    // surface, so that a boundary keeps its shape. `gradient` says which data components count;
+    // the geometric error weighs `geometry`, the data error `data` (none: no data terms).
+    void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry, double data,
                size_t capacity);
 
     double* of(uint32_t v) { return &values[size_t(v) * size]; }

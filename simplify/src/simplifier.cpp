@@ -110,7 +110,8 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     quadric_terms_ = options.terms == Terms::ErrorQuadrics;
     least_error_ =
         options.strategy == Strategy::EdgeCollapse && options.placement == Placement::LeastError;
-    if (quadric_terms_ || least_error_) quadrics_.setup(mesh_, gradient_, options.alpha, capacity);
+    if (quadric_terms_ || least_error_)
+        quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity);
     weight_.assign(capacity, 0);
     // The paper's terms, then their means over the vertices that can take part.
     std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);
@@ -221,12 +222,16 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t ke
     });
 }
 
+double Simplifier::geometry_weight() const {
+    return std::max(options_.alpha, kMinGeometryWeight);
+}
+
 double Simplifier::retraction_scale() const {
-    if (!quadric_terms_ || options_.alpha == 0) return 0;
+    if (!quadric_terms_) return 0;
     // Each input triangle's plane is in the quadrics of its three corners; an operation removes
     // one vertex.
     const double live = std::max(1.0, double(vertices_in_use_) - double(operations_));
-    return options_.alpha * 3 * quadrics_.area / live * quadrics_.inv_diagonal *
+    return geometry_weight() * 3 * quadrics_.area / live * quadrics_.inv_diagonal *
            quadrics_.inv_diagonal;
 }
 

@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 9;
+inline constexpr int algorithm_version = 10;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -133,11 +133,13 @@ enum class Terms {
     // geometric error (area x squared distance to the input triangles' planes, lengths in
     // bounding-box diagonals), grad the data error (area x squared difference to the input's
     // linear interpolation, data in field ranges), both accumulated per vertex as quadrics and
-    // evaluated where the operation puts the vertex. An edge weighs the error of its two ends at
-    // the new point plus, with alpha > 0, how far its new triangles retract from the ends (the
+    // evaluated where the operation puts the vertex. The geometric term weighs alpha but at
+    // least 0.2, so that at alpha = 0 the surface stays where the data is read from (data alone
+    // lets the surface drift off its creases, taking the data with it). An edge weighs the error
+    // of its two ends at the new point plus how far its new triangles retract from the ends (the
     // squared distances, priced at an average vertex's area); a removed vertex weighs its error
-    // where the new triangles pass it plus, with alpha > 0 and off a boundary, their distance
-    // from it, priced the same way (docs/algorithm.md).
+    // where the new triangles pass it plus, off a boundary, their distance from it, priced the
+    // same way (docs/algorithm.md).
     ErrorQuadrics,
     // Frank & Lang's: curv the absolute angle deficit / pi, grad the steepest neighbour's
     // ||df||_1 / ||dx||_1 (see vertex_curvature, vertex_gradient), each divided by its mean over
