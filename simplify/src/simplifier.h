@@ -81,9 +81,9 @@ private:
     bool report_progress(size_t live, size_t target);
     // The weight of the quadrics' geometric error: alpha, but at least kMinGeometryWeight.
     double geometry_weight() const;
-    // Terms::ErrorQuadrics: the price of a squared distance (raw units) by which
-    // the surface retracts from a vertex an operation removes or moves, the geometric quadric
-    // area of an average vertex now; 0 otherwise. A quadric holds the planes of the triangles a
+    // Terms::ErrorQuadrics: the price of a squared distance (raw units) by which the surface
+    // retracts from a vertex an operation removes or moves, the geometric quadric area of an
+    // average vertex now; 0 otherwise. A quadric holds the planes of the triangles a
     // vertex stands for, and a thin spike's or a corner's planes all meet at it: pulling its tip
     // back costs them little when it stands for a small area, though the surface no longer
     // reaches where the tip was. So a plan also prices the distance from the vertex to the new
