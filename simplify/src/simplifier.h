@@ -83,10 +83,10 @@ private:
     double geometry_weight() const;
     // Terms::ErrorQuadrics: the price of a squared distance (raw units) by which the surface
     // retracts from a vertex an operation removes or moves, the geometric quadric area of an
-    // average vertex now; 0 otherwise. A quadric holds the planes of the triangles a
-    // vertex stands for, and a thin spike's or a corner's planes all meet at it: pulling its tip
-    // back costs them little when it stands for a small area, though the surface no longer
-    // reaches where the tip was. So a plan also prices the distance from the vertex to the new
+    // average vertex now; 0 otherwise. A quadric holds the planes of the triangles a vertex
+    // stands for, and a thin spike's or a corner's planes all meet at it: pulling its tip back
+    // costs them little when it stands for a small area, though the surface no longer reaches
+    // where the tip was. So a plan also prices the distance from the vertex to the new
     // triangles, as if it stood for an average vertex's area.
     double retraction_scale() const;
 

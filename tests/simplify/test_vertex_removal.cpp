@@ -147,5 +147,42 @@ TEST(VertexRemoval, ThinBladeKeepsItsRim) {
     EXPECT_LT(farthest_input_vertex(in, r.surface), 0.1 * kThinBladeThickness);
 }
 
+// With the paper's terms a removal changes the angle deficits of its ring, so the ring's weights
+// must be computed again. Replayed from the record: every removal of a run bounded by
+// max_weight took a vertex whose weight on the surface of that moment (vertex_curvature there,
+// over the input's mean) was within the bound. A stale weight lets a ring vertex go after a
+// removal has pushed its deficit past the bound.
+TEST(VertexRemoval, PaperWeightsAreFreshWhenARemovalIsTaken) {
+    const Surface in = icosphere(3);
+    Options o = removal();
+    o.terms = Terms::AngleDeficitGradient;
+    o.alpha = 1;
+    o.keep_fraction = 0;
+    o.max_weight = 1.5;
+    const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+    EXPECT_EQ(record.stop(), StopReason::WeightBound);
+    ASSERT_GT(record.operations(), 100u);
+    const std::vector<float> input_curvature = vertex_curvature(in);
+    double mean = 0;
+    for (float c : input_curvature) mean += c;
+    mean /= double(input_curvature.size());
+
+    Surface level = record.vertices();
+    std::vector<uint32_t> next = record.indexed_triangles(0);
+    for (size_t i = 0; i < record.operations(); ++i) {
+        level.triangles = next;
+        next = record.indexed_triangles(i + 1);
+        std::vector<bool> used(level.vertex_count());
+        for (uint32_t v : next) used[v] = true;
+        constexpr uint32_t kNone = UINT32_MAX;
+        uint32_t removed = kNone;
+        for (uint32_t v : level.triangles)
+            if (!used[v]) removed = v;
+        ASSERT_NE(removed, kNone) << "operation " << i;
+        const double weight = vertex_curvature(level)[removed] / mean;
+        EXPECT_LE(weight, o.max_weight * (1 + 1e-5)) << "operation " << i << ", vertex " << removed;
+    }
+}
+
 } // namespace
 } // namespace ddsimp::test
