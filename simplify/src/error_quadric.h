@@ -12,7 +12,8 @@
 // symmetric 3x3), b (3), c, W, then per component
 // G (3) and D, with
 //     E(x, s) = x.A.x + 2 b.x + c + W s.s - 2 sum_j s_j (G_j.x + D_j).
-// A collapse adds its two ends' quadrics; a removal shares the vertex's among its ring.
+// A collapse adds its two ends' quadrics; a removal gives the vertex's to the corners of the new
+// triangle that passes it, by its barycentric weights there.
 #pragma once
 
 #include "weights.h"

@@ -43,6 +43,14 @@ private:
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
+    // Where a re-triangulation passes the removed vertex: the corners of the new triangle there
+    // (indices into the ring) with v's barycentric weights in it; for a boundary ear, its two
+    // ends, half each. None (count 0) without the error quadrics.
+    struct Cover {
+        uint8_t corner[3];
+        double weight[3];
+        size_t count = 0;
+    };
     struct RemovalPlan {
         uint32_t vertex;
         size_t ring_size;
@@ -57,6 +65,7 @@ private:
         uint8_t triangles[kMaxValence][3]; // new triangles as indices into ring
         double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
+        Cover cover;                        // where the new triangles pass v
     };
 
     // The share of a pass's candidates, lightest first, that the pass goes through.
@@ -124,7 +133,7 @@ private:
     // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside
     // the surface, plus the retraction from v to that point (see retraction_scale).
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
-                               const double (*xy)[2]) const;
+                               const double (*xy)[2], Cover& cover) const;
     void apply_removal(const RemovalPlan& plan);
     void step_removal(uint32_t v);
 

@@ -233,7 +233,7 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
 
     if (planar_triangulation(plan, xy, adjacent, axis)) {
         if (!quadric_terms_) return true;
-        plan.error = triangulation_error(plan, plan.triangles, plan.new_count, xy);
+        plan.error = triangulation_error(plan, plan.triangles, plan.new_count, xy, plan.cover);
         if (plan.error <= quadrics_.noise(v)) return true;
         // The flattest triangulation may cut across a crease that a fan from one of its ends
         // follows: the one with less error wins.
@@ -250,9 +250,12 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
 }
 
 double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3],
-                                       size_t count, const double (*xy)[2]) const {
+                                       size_t count, const double (*xy)[2], Cover& cover) const {
     if (count == 0) { // a boundary ear: its two ends are joined
         const uint32_t ends[2] = {plan.ring[0], plan.ring[plan.ring_size - 1]};
+        cover.count = 2;
+        cover.corner[0] = 0, cover.corner[1] = uint8_t(plan.ring_size - 1);
+        cover.weight[0] = cover.weight[1] = 0.5;
         return quadrics_.at_blend(plan.vertex, mesh_, ends, nullptr, 2);
     }
     // Barycentric coordinates of the origin (v) in each new triangle: the one that holds it, or
@@ -274,6 +277,8 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
     for (double& w : best) w = sum > 0 ? w / sum : 1.0 / 3;
     const uint32_t corners[3] = {plan.ring[triangles[at][0]], plan.ring[triangles[at][1]],
                                  plan.ring[triangles[at][2]]};
+    cover.count = 3;
+    for (int k = 0; k < 3; ++k) cover.corner[k] = triangles[at][k], cover.weight[k] = best[k];
     Vec3 x{0, 0, 0};
     const double error = quadrics_.at_blend(plan.vertex, mesh_, corners, best, 3, &x);
     // On a boundary, the planes through its edges already price pulling it in.
@@ -343,6 +348,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
     size_t best = n;
     // With the error quadrics the fan of least error wins (the best shape among equals).
     const double noise = quadric_terms_ ? quadrics_.noise(plan.vertex) : 0;
+    Cover cover, best_cover;
     auto fan_error = [&](size_t j) {
         uint8_t triangles[kMaxValence][3];
         size_t count = 0;
@@ -352,7 +358,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             triangles[count][0] = uint8_t(j), triangles[count][1] = uint8_t(i);
             triangles[count++][2] = uint8_t(i1);
         }
-        return triangulation_error(plan, triangles, count, xy);
+        return triangulation_error(plan, triangles, count, xy, cover);
     };
     // What does not depend on the fan's apex, once: the ring's points and reference normals,
     // and per star triangle (v, i, i + 1) its normal, that normal's length and the squared
@@ -398,12 +404,13 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             const double error = fan_error(j);
             if (error < best_error - noise || (error <= best_error + noise && worst > best_shape))
                 best_error = std::min(error, best_error), best_shape = worst, best = j,
-                chosen_error = error;
+                chosen_error = error, best_cover = cover;
         } else if (worst > best_shape)
             best_shape = worst, best = j;
     }
     if (best == n) return false;
     plan.error = chosen_error; // the best fan's (0 with the paper's terms)
+    plan.cover = best_cover;
     for (size_t k = 1; k + 1 < n; ++k) {
         const size_t i = (best + k) % n, i1 = (i + 1) % n;
         if (plan.boundary && i == n - 1) break;
@@ -486,9 +493,14 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     }
     record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
     ++operations_;
-    // The input surface v stood for is now spanned by its ring's new triangles: its error quadric
-    // goes to them, shared equally.
-    if (quadric_terms_)
+    // The input surface v stood for is now spanned by the new triangle that passes it: its error
+    // quadric goes to that triangle's corners by v's barycentric weights there, as a collapse's
+    // goes to the vertex that replaces it. (Shared equally among the ring, as before algorithm
+    // version 11, the error of v's input spread to ring vertices far from it.)
+    if (quadric_terms_ && plan.cover.count > 0)
+        for (size_t k = 0; k < plan.cover.count; ++k)
+            quadrics_.add(plan.ring[plan.cover.corner[k]], plan.vertex, plan.cover.weight[k]);
+    else if (quadric_terms_) // a boundary ear, planned without a triangle: its two ends
         for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
     refresh_around(plan.ring, n, n);
 }
