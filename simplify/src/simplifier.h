@@ -42,7 +42,6 @@ private:
         double retraction;   // Terms::ErrorQuadrics: what `error` misses (retraction_scale)
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
-    // The re-triangulation of a removed vertex's star; filled by plan_removal.
     // Where a re-triangulation passes the removed vertex: the corners of the new triangle there
     // (indices into the ring) with v's barycentric weights in it; for a boundary ear, its two
     // ends, half each. None (count 0) without the error quadrics.
@@ -51,6 +50,7 @@ private:
         double weight[3];
         size_t count = 0;
     };
+    // The re-triangulation of a removed vertex's star; filled by plan_removal.
     struct RemovalPlan {
         uint32_t vertex;
         size_t ring_size;
@@ -131,7 +131,8 @@ private:
     // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
     // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
     // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside
-    // the surface, plus the retraction from v to that point (see retraction_scale).
+    // the surface, plus the retraction from v to that point (see retraction_scale). Where that
+    // point is into `cover`.
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
                                const double (*xy)[2], Cover& cover) const;
     void apply_removal(const RemovalPlan& plan);
