@@ -49,6 +49,10 @@ private:
         uint8_t corner[3];
         double weight[3];
         size_t count = 0;
+        // A boundary ear (no new triangle: its two ends are joined).
+        static Cover ear(size_t ring_size) {
+            return {{0, uint8_t(ring_size - 1), 0}, {0.5, 0.5, 0}, 2};
+        }
     };
     // The re-triangulation of a removed vertex's star; filled by plan_removal.
     struct RemovalPlan {

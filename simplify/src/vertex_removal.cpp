@@ -207,8 +207,11 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         }
 
     if (plan.boundary) {
-        if (n == 2) return plan.outer_twin[0] != kNone; // an ear: its inner edge stays
-        if (adjacent[n - 1] >> 0 & 1) return false;     // the new boundary edge exists already
+        if (n == 2) { // an ear: its inner edge stays
+            plan.cover = Cover::ear(n);
+            return plan.outer_twin[0] != kNone;
+        }
+        if (adjacent[n - 1] >> 0 & 1) return false; // the new boundary edge exists already
     } else if (n == 3) {
         if (complex) return false; // the far side of a complex edge cannot be seen
         // The one new triangle must not already exist on the far side (a tetrahedron).
@@ -253,9 +256,7 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
                                        size_t count, const double (*xy)[2], Cover& cover) const {
     if (count == 0) { // a boundary ear: its two ends are joined
         const uint32_t ends[2] = {plan.ring[0], plan.ring[plan.ring_size - 1]};
-        cover.count = 2;
-        cover.corner[0] = 0, cover.corner[1] = uint8_t(plan.ring_size - 1);
-        cover.weight[0] = cover.weight[1] = 0.5;
+        cover = Cover::ear(plan.ring_size);
         return quadrics_.at_blend(plan.vertex, mesh_, ends, nullptr, 2);
     }
     // Barycentric coordinates of the origin (v) in each new triangle: the one that holds it, or
@@ -497,11 +498,9 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     // quadric goes to that triangle's corners by v's barycentric weights there, as a collapse's
     // goes to the vertex that replaces it. (Shared equally among the ring, as before algorithm
     // version 11, the error of v's input spread to ring vertices far from it.)
-    if (quadric_terms_ && plan.cover.count > 0)
+    if (quadric_terms_)
         for (size_t k = 0; k < plan.cover.count; ++k)
             quadrics_.add(plan.ring[plan.cover.corner[k]], plan.vertex, plan.cover.weight[k]);
-    else if (quadric_terms_) // a boundary ear, planned without a triangle: its two ends
-        for (size_t i = 0; i < n; ++i) quadrics_.add(plan.ring[i], plan.vertex, 1.0 / double(n));
     refresh_around(plan.ring, n, n);
 }
 

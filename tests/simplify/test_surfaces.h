@@ -284,6 +284,16 @@ inline double farthest_input_vertex(const Surface& in, const Surface& out) {
     return farthest;
 }
 
+// farthest_input_vertex of `in` and its reduction with `o` at `alpha` to `keep` of its triangles
+// (a failure is recorded if the reduction stops short of its target).
+inline double farthest_after_reduction(const Surface& in, Options o, double alpha, double keep) {
+    o.alpha = alpha;
+    o.keep_fraction = keep;
+    const Result r = simplify(in, o);
+    EXPECT_TRUE(r.target_reached) << describe(r.stop);
+    return farthest_input_vertex(in, r.surface);
+}
+
 // Flat grid over [0,1]^2 in z = 0: vertex (i, j) = (i/nx, j/ny, 0) has index j*(nx+1) + i; each
 // cell is split along its (i,j)-(i+1,j+1) diagonal into (a,b,c) and (a,c,d), normal +z.
 // V (nx+1)(ny+1), F 2 nx ny, E nx(ny+1) + ny(nx+1) + nx ny, boundary edges 2(nx+ny), 1 loop,

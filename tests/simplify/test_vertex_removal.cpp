@@ -138,13 +138,7 @@ TEST(VertexRemoval, SquareGridEndsAsTwoTriangles) {
 // triangles retract from the removed vertex, so at 10% every input vertex stays within a tenth of
 // the blade's thickness of the reduction. (Without that price, 0.0083 of its 8.25 diagonal.)
 TEST(VertexRemoval, ThinBladeKeepsItsRim) {
-    const Surface in = thin_blade();
-    Options o = removal();
-    o.alpha = 1;
-    o.keep_fraction = 0.1;
-    const Result r = simplify(in, o);
-    ASSERT_TRUE(r.target_reached);
-    EXPECT_LT(farthest_input_vertex(in, r.surface), 0.1 * kThinBladeThickness);
+    EXPECT_LT(farthest_after_reduction(thin_blade(), removal(), 1, 0.1), 0.1 * kThinBladeThickness);
 }
 
 // A removed vertex's error quadric goes to the corners of the new triangle that passes it, so the
@@ -153,13 +147,7 @@ TEST(VertexRemoval, ThinBladeKeepsItsRim) {
 // within 0.027 of its 10% reduction. (0.032 when the quadric was shared equally among the ring,
 // which spread its error to ring vertices far from it.)
 TEST(VertexRemoval, RemovedErrorGoesWhereTheSurfaceCoversIt) {
-    const Surface in = with_test_fields(icosphere(4));
-    Options o = removal();
-    o.alpha = 0;
-    o.keep_fraction = 0.1;
-    const Result r = simplify(in, o);
-    ASSERT_TRUE(r.target_reached);
-    EXPECT_LT(farthest_input_vertex(in, r.surface), 0.027);
+    EXPECT_LT(farthest_after_reduction(with_test_fields(icosphere(4)), removal(), 0, 0.1), 0.027);
 }
 
 // With the paper's terms a removal changes the angle deficits of its ring, so the ring's weights
