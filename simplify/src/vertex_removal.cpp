@@ -169,7 +169,6 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     // neighbours cannot all be listed, but the other end of an edge can list it; between two
     // complex vertices an edge is assumed, so no new edge is made there.
     uint64_t adjacent[kMaxValence] = {};
-    uint32_t neighbours[kMaxValence];
     uint64_t complex = 0;
     // Each ring vertex's position in the ring (scratch, cleared again below), so that finding a
     // neighbour in the ring is one look-up; a ring holding a vertex twice takes the long way.
@@ -181,20 +180,26 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         else
             at = uint8_t(r);
     }
-    for (size_t i = 0; i < n && listed; ++i) {
-        if (mesh_.kind[plan.ring[i]] == VertexKind::Complex) {
+    uint32_t walked[kMaxValence], neighbours[kMaxValence][kMaxValence];
+    size_t walks = 0, counts[kMaxValence];
+    for (size_t i = 0; i < n; ++i)
+        if (mesh_.kind[plan.ring[i]] == VertexKind::Complex)
             complex |= uint64_t(1) << i;
-            continue;
-        }
-        const size_t m = mesh_.ring(plan.ring[i], neighbours, kMaxValence);
+        else
+            walked[walks++] = plan.ring[i];
+    mesh_.rings(walked, walks, neighbours[0], kMaxValence, counts);
+    for (size_t i = 0, w = 0; i < n && listed; ++i) {
+        if (complex >> i & 1) continue;
+        const size_t m = counts[w];
+        const uint32_t* neighbour = neighbours[w++];
         listed = m != 0;
         for (size_t j = 0; j < m; ++j)
             if (!repeated) {
-                const uint8_t r = ring_at_[neighbours[j]];
+                const uint8_t r = ring_at_[neighbour[j]];
                 if (r != kNotInRing) adjacent[i] |= uint64_t(1) << r;
             } else {
                 for (size_t r = 0; r < n; ++r)
-                    if (plan.ring[r] == neighbours[j]) adjacent[i] |= uint64_t(1) << r;
+                    if (plan.ring[r] == neighbour[j]) adjacent[i] |= uint64_t(1) << r;
             }
     }
     for (size_t r = 0; r < n; ++r) ring_at_[plan.ring[r]] = kNotInRing;

@@ -190,6 +190,10 @@ struct WorkingMesh {
     // Neighbours of v in counter-clockwise order (on a boundary from the fan's first to its last
     // neighbour) into ids[0..max); returns their number, or 0 if there are more than `max`.
     size_t ring(uint32_t v, uint32_t* ids, size_t max) const;
+    // The rings of vs[0..k), k <= 64: vertex vs[i]'s into ids[i * max ..], its count (as ring's,
+    // 0 if more than max) into counts[i]. The walks advance side by side: each step of a walk
+    // waits on its own last load, so k walks together take about as long as the longest.
+    void rings(const uint32_t* vs, size_t k, uint32_t* ids, size_t max, size_t* counts) const;
 
     Vec3 triangle_normal(uint32_t t) const; // not normalised (length = 2 x area)
     // Recomputes the three corner angles of slot t (after its corners moved or changed).
