@@ -136,7 +136,8 @@ private:
     // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
     // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside
     // the surface, plus the retraction from v to that point (see retraction_scale). Where that
-    // point is into `cover`.
+    // point is into `cover`. count >= 1: a boundary ear, which makes no triangle, is planned
+    // without one (plan_removal).
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
                                const double (*xy)[2], Cover& cover) const;
     void apply_removal(const RemovalPlan& plan);

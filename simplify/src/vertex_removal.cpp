@@ -259,11 +259,6 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
 
 double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3],
                                        size_t count, const double (*xy)[2], Cover& cover) const {
-    if (count == 0) { // a boundary ear: its two ends are joined
-        const uint32_t ends[2] = {plan.ring[0], plan.ring[plan.ring_size - 1]};
-        cover = Cover::ear(plan.ring_size);
-        return quadrics_.at_blend(plan.vertex, mesh_, ends, nullptr, 2);
-    }
     // Barycentric coordinates of the origin (v) in each new triangle: the one that holds it, or
     // whose least coordinate is largest, clamped into it.
     const double origin[2] = {0, 0};

@@ -210,16 +210,7 @@ size_t WorkingMesh::ring(uint32_t v, uint32_t* ids, size_t max) const {
     size_t count = 0;
     const uint32_t start = out[v];
     uint32_t h = start;
-    do {
-        if (count == max) return 0;
-        ids[count++] = dest(h);
-        const uint32_t p = prev(h);
-        h = twin[p];
-        if (h == kNone) { // boundary: the fan ends with the origin of its incoming edge
-            if (count == max) return 0;
-            ids[count++] = origin[p];
-        }
-    } while (h != kNone && h != start);
+    while (!ring_step(h, start, ids, count, max)) continue;
     return count;
 }
 
@@ -229,25 +220,11 @@ void WorkingMesh::rings(const uint32_t* vs, size_t k, uint32_t* ids, size_t max,
     uint64_t walking = 0;
     for (size_t i = 0; i < k; ++i)
         start[i] = at[i] = out[vs[i]], counts[i] = 0, walking |= uint64_t(1) << i;
-    // One step of walk i, as one turn of ring's loop; true when the walk is over.
-    auto step = [&](size_t i) {
-        uint32_t* own = ids + i * max;
-        size_t& count = counts[i];
-        if (count == max) return count = 0, true;
-        own[count++] = dest(at[i]);
-        const uint32_t p = prev(at[i]);
-        at[i] = twin[p];
-        if (at[i] == kNone) { // boundary: the fan ends with the origin of its incoming edge
-            if (count == max) return count = 0, true;
-            own[count++] = origin[p];
-            return true;
-        }
-        return at[i] == start[i];
-    };
     while (walking != 0)
         for (uint64_t w = walking; w != 0; w &= w - 1) {
             const size_t i = size_t(__builtin_ctzll(w));
-            if (step(i)) walking &= ~(uint64_t(1) << i);
+            if (ring_step(at[i], start[i], ids + i * max, counts[i], max))
+                walking &= ~(uint64_t(1) << i);
         }
 }
 

@@ -194,6 +194,21 @@ struct WorkingMesh {
     // 0 if more than max) into counts[i]. The walks advance side by side: each step of a walk
     // waits on its own last load, so k walks together take about as long as the longest.
     void rings(const uint32_t* vs, size_t k, uint32_t* ids, size_t max, size_t* counts) const;
+    // One step of a walk around a fan that began at half-edge `start`, now at `h`: lists the next
+    // neighbour into ids[count++] (on a boundary also the one closing the fan) and moves h on.
+    // True when the walk is over; then count is 0 if there were more than `max`.
+    bool ring_step(uint32_t& h, uint32_t start, uint32_t* ids, size_t& count, size_t max) const {
+        if (count == max) return count = 0, true;
+        ids[count++] = dest(h);
+        const uint32_t p = prev(h);
+        h = twin[p];
+        if (h == kNone) { // boundary: the fan ends with the origin of its incoming edge
+            if (count == max) return count = 0, true;
+            ids[count++] = origin[p];
+            return true;
+        }
+        return h == start;
+    }
 
     Vec3 triangle_normal(uint32_t t) const; // not normalised (length = 2 x area)
     // Recomputes the three corner angles of slot t (after its corners moved or changed).
