@@ -25,6 +25,8 @@ using detail::sub;
 using detail::Vec3;
 
 constexpr uint32_t kDead = 0xffffffffu;
+// Vertex removal: distances (in diagonals) closer than this are equal, ties of rounding.
+constexpr double kTie = 1e-12;
 
 // Per vertex slot, over the normalised position x and data s:
 //   geometry  G(x)    = x.A.x + 2 b.x + c                                    numbers 0..9
@@ -235,7 +237,9 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
     // removed ones. Each removed input vertex is followed to the triangle that covers it (the
     // closest of those that replaced its star), and measured against the point of that triangle
     // nearest to it. When a later removal rewrites that triangle, its vertices are measured again
-    // against the new ones.
+    // against the new ones. Triangles that are equally near (within rounding: the point is on
+    // their shared edge or corner) go by their corners' ids, so that which one is followed is
+    // part of the definition, not of the order of the record's writes.
     std::vector<uint32_t> slots = base_triangles_;
     std::vector<uint32_t> head(slots.size() / 3, kDead), next(input_vertices_, kDead);
     std::vector<uint32_t> before, after, points;
@@ -265,16 +269,21 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
             const Vec3 x = measure.point(p);
             double best = INFINITY;
             uint32_t cover = kDead;
+            std::array<uint32_t, 3> cover_corners{};
             std::array<double, 3> weights{};
             for (uint32_t t : after) {
                 const uint32_t* c = &slots[3 * size_t(t)];
+                std::array<uint32_t, 3> corners{c[0], c[1], c[2]};
+                std::sort(corners.begin(), corners.end());
                 const Vec3 a = measure.point(c[0]), b = measure.point(c[1]),
                            d = measure.point(c[2]);
                 const auto w = detail::closest_on_triangle(x, a, b, d).weights;
                 const Vec3 q =
                     detail::add(detail::add(scale(a, w[0]), scale(b, w[1])), scale(d, w[2]));
                 const double distance = norm(sub(q, x));
-                if (distance < best) best = distance, cover = t, weights = w;
+                const bool tie = std::abs(distance - best) <= kTie;
+                if ((!tie && distance < best) || (tie && corners < cover_corners))
+                    best = distance, cover = t, cover_corners = corners, weights = w;
             }
             next[p] = head[cover], head[cover] = p;
             const uint32_t* c = &slots[3 * size_t(cover)];

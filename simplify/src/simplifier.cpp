@@ -157,8 +157,8 @@ void Simplifier::refresh_vertex(uint32_t v) {
     // One fan walk: kind, valence, angle sum, steepest neighbour and, for vertex removal, the
     // shortest edge (the key's tie-break). Same values as classify, the constructor's weights
     // and key_removal.
-    // With the error quadrics, a vertex removal's weight is its error at the centre of its ring
-    // (see removal_error), and an edge's comes from its ends' quadrics (collapse_key).
+    // With the error quadrics, a vertex removal's weight is its estimated error (removal_error),
+    // and an edge's comes from its ends' quadrics (collapse_key).
     detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
     const bool removal = options_.strategy == Strategy::VertexRemoval;
     const bool ring_error = removal && quadric_terms_;

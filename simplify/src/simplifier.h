@@ -83,7 +83,9 @@ private:
     void refresh_vertex(uint32_t v);
     // Terms::ErrorQuadrics, vertex removal: v's error at the centre of its ring (its neighbours
     // in fan order; on a boundary, of the two boundary neighbours that the removal joins), with
-    // their mean data: where a flat re-triangulation passes (infinite for a ring too large).
+    // their mean data, where a flat re-triangulation passes; off a boundary, at a ring vertex
+    // with its data if that is lighter, where a fan from it puts v (infinite for a ring too
+    // large).
     double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
     // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
     // ends and line flags (all but the apexes); vertex removal passes count.
@@ -147,9 +149,10 @@ private:
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
     // Per vertex: the paper's weight (Terms::AngleDeficitGradient); with the error quadrics,
-    // vertex removal's key: its error at the centre of its ring, an estimate that step_removal
-    // replaces by its planned re-triangulation's error when that is heavier (until v's star
-    // changes); unused by edge collapse with the error quadrics.
+    // vertex removal's key: its error where a re-triangulation would pass (removal_error), an
+    // estimate that step_removal replaces by its planned re-triangulation's error when that is
+    // heavier than it and than the pass's share (until v's star changes); unused by edge
+    // collapse with the error quadrics.
     std::vector<float> weight_;
     // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
     detail::ErrorQuadrics quadrics_;
@@ -192,9 +195,9 @@ private:
     // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
     // sum of its corners' reference normals instead of each (see run()).
     bool relaxed_facing_ = false;
-    // Edge collapse with a retraction (see retraction_scale): the heaviest key of the pass's
-    // share. A plan whose retraction makes it heavier than this and than its own key waits for
-    // the next pass, which ranks it with the heavier key.
+    // The heaviest key of the pass's share. A planned collapse whose retraction (see
+    // retraction_scale), or a planned removal whose error, makes it heavier than this and than
+    // its own key waits for the next pass, which ranks it with the heavier key.
     float share_limit_ = 0;
     // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
     // was last computed, so it waits only once: the retraction's price grows a little as the

@@ -65,7 +65,14 @@ double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count)
         const uint32_t ends[2] = {ring[0], ring[count - 1]};
         return quadrics_.at_blend(v, mesh_, ends, nullptr, 2);
     }
-    return quadrics_.at_blend(v, mesh_, ring, nullptr, count);
+    // Where a flat re-triangulation passes, or where the fan from a ring vertex (the half-edge
+    // collapse into it) puts v, whichever is lighter: plan_removal tries both kinds. With the
+    // centre alone, a vertex on a crease or at the tip of a fan of slivers, whose ring's centre
+    // lies off the surface, ranked far heavier than its removal along the crease costs.
+    double error = quadrics_.at_blend(v, mesh_, ring, nullptr, count);
+    for (size_t i = 0; i < count; ++i)
+        error = std::min(error, quadrics_.at_blend(v, mesh_, ring + i, nullptr, 1));
+    return error;
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
@@ -511,10 +518,12 @@ void Simplifier::step_removal(uint32_t v) {
         fail_[v] = uint32_t(operations_ + 1); // no candidate until its star changes
         return;
     }
-    // Its key was an estimate (see weight_): a heavier re-triangulation becomes its key, and
-    // the next pass ranks it with that (once, see raised_; always above Options::max_weight).
+    // Its key was an estimate (see weight_): a re-triangulation heavier than that and than the
+    // share the pass goes through becomes its key, and the next pass ranks it with that (once,
+    // see raised_; always above Options::max_weight), as a collapse's retraction does.
     const float error = float(plan.error);
-    if (quadric_terms_ && error > weight_[v] && (!raised_[v] || error > options_.max_weight)) {
+    if (quadric_terms_ && ((error > std::max(weight_[v], share_limit_) && !raised_[v]) ||
+                           error > options_.max_weight)) {
         weight_[v] = error;
         raised_[v] = 1;
         rekey_[v] = pass_;

@@ -245,8 +245,12 @@ void expect_brute_force_errors(const ProgressiveRecord& rec, const std::vector<s
                              {closest_on_segment(x, b, d), closest_on_segment(x, d, a)})
                             if (norm(e - x) < norm(q - x)) q = e;
                     }
-                    if (!(norm(q - x) < best)) continue;
-                    best = norm(q - x), cover[p] = c;
+                    // Equally near (within rounding): the lower sorted corner ids (LevelError's
+                    // definition).
+                    const double distance = norm(q - x);
+                    const bool tie = std::abs(distance - best) <= 1e-12;
+                    if (tie ? !(c < cover[p]) : !(distance < best)) continue;
+                    best = distance, cover[p] = c;
                     // The data there: barycentric weights from sub-triangle areas.
                     const double area = norm(n);
                     const double wa = norm(cross(b - q, d - q)) / area,

@@ -442,20 +442,23 @@ TEST_P(Simplify, AlphaZeroKeepsTheRidgeUnderTheData) {
     EXPECT_LT(farthest_after_reduction(in, options(), 0, 0.1), 0.02 * kHeight);
 }
 
-// The mirror image: a smooth bump (curvature) at (0.75, 0.5) and a data step at x = 0.24 far
-// from it, reduced to so few triangles (2%) that the two compete for them: alpha = 1 follows the
-// bump more closely than alpha = 0, alpha = 0 keeps more vertices near the step than alpha = 1.
-// (With more to spare, alpha = 0 follows the bump as well: where the data is flat, the geometric
-// term's floor of 0.2 decides.)
+// The mirror image: a smooth bump (curvature) at (0.75, 0.5) and a data step along a circle
+// around (0.25, 0.5) far from it, reduced to so few triangles (2%) that the two compete for them:
+// alpha = 1 follows the bump more closely than alpha = 0, alpha = 0 keeps more vertices near the
+// step than alpha = 1. (With more to spare, alpha = 0 follows the bump as well: where the data is
+// flat, the geometric term's floor of 0.2 decides. A straight step along the grid's lines would
+// not compete: vertex removal keeps it exactly with the four corners of its two columns.)
 TEST_P(Simplify, AlphaOneKeepsTheBump) {
     Surface in = grid(40, 40);
     for (size_t v = 0; v < in.vertex_count(); ++v) {
         double dx = in.positions[3 * v] - 0.75, dy = in.positions[3 * v + 1] - 0.5;
         in.positions[3 * v + 2] = float(0.08 * std::exp(-(dx * dx + dy * dy) / 0.01));
     }
-    add_field(in, "step", 1,
-              [](const Vec3& p) { return std::vector<double>{p[0] < 0.24 ? 0.0 : 1.0}; });
-    auto near_step = [](const Vec3& p) { return std::abs(p[0] - 0.2375) <= 0.0625; };
+    auto from_centre = [](const Vec3& p) { return std::hypot(p[0] - 0.25, p[1] - 0.5); };
+    add_field(in, "step", 1, [&](const Vec3& p) {
+        return std::vector<double>{from_centre(p) < 0.15 ? 1.0 : 0.0};
+    });
+    auto near_step = [&](const Vec3& p) { return std::abs(from_centre(p) - 0.15) <= 0.0625; };
     Options o = options();
     o.keep_fraction = 0.02;
     o.alpha = 0.0;
