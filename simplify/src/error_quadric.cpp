@@ -175,16 +175,17 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
 namespace {
 
 // A quadric's error at the normalised position y with normalised data datum(j), unclamped; q(i)
-// is its i-th number, a double, or a Pair for two quadrics at once (the same operations per lane).
-template <class T, class Q, class Datum>
-T quadric_error(Q q, const Vec3& y, size_t components, Datum datum) {
+// is its i-th number, a double, or a Pair for two quadrics or two points at once (y's coordinates
+// then Pairs too; the same operations per lane).
+template <class T, class Q, class Y, class Datum>
+T quadric_error(Q q, const Y& y, size_t components, Datum datum) {
     auto dot_q = [&](size_t i) { return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2]; };
     const T ay[3] = {q(0) * y[0] + q(1) * y[1] + q(2) * y[2],
                      q(1) * y[0] + q(3) * y[1] + q(4) * y[2],
                      q(2) * y[0] + q(4) * y[1] + q(5) * y[2]};
     T e = y[0] * ay[0] + y[1] * ay[1] + y[2] * ay[2] + 2 * dot_q(6) + q(9);
     for (size_t j = 0; j < components; ++j) {
-        const double s = datum(j);
+        const auto s = datum(j); // a double, or a Pair with two points
         const size_t gj = ErrorQuadrics::kSharedTerms + 4 * j;
         e += q(10) * s * s - 2 * s * (dot_q(gj) + q(gj + 3));
     }
@@ -223,6 +224,26 @@ double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32
     return std::max(0.0,
                     quadric_error<double>([&](size_t i) { return qv[i]; },
                                           scale(sub(x, centre), inv_diagonal), components, datum));
+}
+
+double ErrorQuadrics::least_at(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                               size_t count) const {
+    const double* qv = of(v);
+    auto q = [&](size_t i) { return Pair{qv[i], qv[i]}; };
+    double least = INFINITY;
+    for (size_t i = 0; i < count; i += 2) { // two points side by side (an odd last one twice)
+        const uint32_t a = points[i], b = points[std::min(i + 1, count - 1)];
+        const Vec3 ya = scale(sub(mesh.point(a), centre), inv_diagonal),
+                   yb = scale(sub(mesh.point(b), centre), inv_diagonal);
+        const Pair y[3] = {{ya[0], yb[0]}, {ya[1], yb[1]}, {ya[2], yb[2]}};
+        const float *fa = mesh.data_of(a), *fb = mesh.data_of(b);
+        const Pair e = quadric_error<Pair>(q, y, components, [&](size_t j) {
+            return Pair{(double(fa[offset[j]]) - low[j]) * inv_range[j],
+                        (double(fb[offset[j]]) - low[j]) * inv_range[j]};
+        });
+        least = std::min({least, std::max(0.0, e[0]), std::max(0.0, e[1])});
+    }
+    return least;
 }
 
 Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& axis) const {

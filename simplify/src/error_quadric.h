@@ -103,6 +103,10 @@ struct ErrorQuadrics {
     // `position` if given.
     double at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
                     const double* weights, size_t count, Vec3* position = nullptr) const;
+    // The least error of vertex v's quadric at any of points[0..count), each with its own data
+    // (the same values as at_blend of that point alone).
+    double least_at(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
+                    size_t count) const;
     // Errors of v's quadric closer than this are equal (rounding).
     double noise(uint32_t v) const {
         const double* q = of(v);

@@ -69,10 +69,8 @@ double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count)
     // collapse into it) puts v, whichever is lighter: plan_removal tries both kinds. With the
     // centre alone, a vertex on a crease or at the tip of a fan of slivers, whose ring's centre
     // lies off the surface, ranked far heavier than its removal along the crease costs.
-    double error = quadrics_.at_blend(v, mesh_, ring, nullptr, count);
-    for (size_t i = 0; i < count; ++i)
-        error = std::min(error, quadrics_.at_blend(v, mesh_, ring + i, nullptr, 1));
-    return error;
+    return std::min(quadrics_.at_blend(v, mesh_, ring, nullptr, count),
+                    quadrics_.least_at(v, mesh_, ring, count));
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.

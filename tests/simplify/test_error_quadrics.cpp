@@ -1,8 +1,10 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
 // placement and the error change it reports, and the error at one point, against the quadrics
-// evaluated along a segment. The quadrics are built by hand from planes and a linear field, so that
-// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+// evaluated along a segment; the least error over points, against each point alone. The quadrics
+// are built by hand from planes and a linear field, so that E(x, s) = sum (n.x + e)^2 + w (s - g.x
+// - d)^2 is known in closed form.
 #include "error_quadric.h"
+#include "working_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -90,6 +92,34 @@ TEST(ErrorQuadrics, ErrorAtAPointEqualsTheSegmentsErrorThere) {
             << "t = " << t;
     }
     EXPECT_GT(q.at(0, 1, xa, fa, fb, 0.5), 0.0); // curved geometry: no point is free
+}
+
+// least_at takes the points two at a time, side by side: for every count, odd ones included, it
+// is the least of at_blend at each point alone, bit for bit (vertex removal's keys depend on it).
+TEST(ErrorQuadrics, LeastAtPointsIsTheLeastOfEachPointAlone) {
+    const ErrorQuadrics q = two_quadrics();
+    // A fan of 7 points around a centre, each with its own datum.
+    Surface s;
+    s.positions = {0, 0, 0};
+    for (int i = 0; i < 7; ++i) {
+        const double a = 0.9 * i;
+        s.positions.insert(s.positions.end(),
+                           {float(0.2 * std::cos(a)), float(0.15 * std::sin(a)), float(0.03 * i)});
+    }
+    for (uint32_t i = 1; i <= 7; ++i) s.triangles.insert(s.triangles.end(), {0, i, i % 7 + 1});
+    s.fields.push_back({"f", 1, {0.3f, 0.1f, 0.9f, 0.4f, 0.05f, 0.7f, 0.2f, 0.6f}});
+    WorkingMesh mesh;
+    mesh.build(s, s.vertex_count(), Limits{});
+    const uint32_t ring[7] = {1, 2, 3, 4, 5, 6, 7};
+    for (uint32_t v : {0u, 1u})
+        for (size_t count = 1; count <= 7; ++count)
+            for (size_t first = 0; first + count <= 7; ++first) {
+                double least = INFINITY;
+                for (size_t i = first; i < first + count; ++i)
+                    least = std::min(least, q.at_blend(v, mesh, ring + i, nullptr, 1));
+                EXPECT_EQ(q.least_at(v, mesh, ring + first, count), least)
+                    << "quadric " << v << ", points " << first << ".." << first + count;
+            }
 }
 
 } // namespace
