@@ -382,10 +382,8 @@ void Simplifier::step_collapse(Member& candidate) {
         // (once: the retraction grows a little as the surface coarsens), and always if it makes
         // it heavier than Options::max_weight.
         const float full = float(plan.error + plan.retraction);
-        if ((full > std::max(candidate.key.weight, share_limit_) && !raised_[h]) ||
-            full > options_.max_weight) {
+        if (waits(h, candidate.key.weight, full)) {
             candidate.key.weight = full;
-            raised_[h] = 1;
             return;
         }
         apply_collapse(plan);

@@ -269,12 +269,14 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
             const Vec3 x = measure.point(p);
             double best = INFINITY;
             uint32_t cover = kDead;
-            std::array<uint32_t, 3> cover_corners{};
             std::array<double, 3> weights{};
+            auto corners = [&](uint32_t t) { // sorted
+                std::array<uint32_t, 3> c{slots[3 * t], slots[3 * t + 1], slots[3 * t + 2]};
+                std::sort(c.begin(), c.end());
+                return c;
+            };
             for (uint32_t t : after) {
                 const uint32_t* c = &slots[3 * size_t(t)];
-                std::array<uint32_t, 3> corners{c[0], c[1], c[2]};
-                std::sort(corners.begin(), corners.end());
                 const Vec3 a = measure.point(c[0]), b = measure.point(c[1]),
                            d = measure.point(c[2]);
                 const auto w = detail::closest_on_triangle(x, a, b, d).weights;
@@ -282,8 +284,8 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
                     detail::add(detail::add(scale(a, w[0]), scale(b, w[1])), scale(d, w[2]));
                 const double distance = norm(sub(q, x));
                 const bool tie = std::abs(distance - best) <= kTie;
-                if ((!tie && distance < best) || (tie && corners < cover_corners))
-                    best = distance, cover = t, cover_corners = corners, weights = w;
+                if (tie ? corners(t) < corners(cover) : distance < best)
+                    best = distance, cover = t, weights = w;
             }
             next[p] = head[cover], head[cover] = p;
             const uint32_t* c = &slots[3 * size_t(cover)];

@@ -278,6 +278,12 @@ void Simplifier::rank_candidates(size_t& share) {
     detail::lightest_sorted(scratch_, share, order_);
 }
 
+bool Simplifier::waits(uint32_t id, float key, float planned) {
+    if ((planned > std::max(key, share_limit_) && !raised_[id]) || planned > options_.max_weight)
+        return raised_[id] = 1, true;
+    return false;
+}
+
 bool Simplifier::report_progress(size_t live, size_t target) {
     if (!options_.progress || operations_ % 1024 != 0) return true;
     const double total = double(record_.triangles_in_ - std::min(target, record_.triangles_in_));

@@ -199,6 +199,10 @@ private:
     // retraction_scale), or a planned removal whose error, makes it heavier than this and than
     // its own key waits for the next pass, which ranks it with the heavier key.
     float share_limit_ = 0;
+    // Whether a candidate `id` keyed `key` whose plan weighs `planned` waits for the next pass,
+    // which ranks it with that weight: heavier than its key and than the share (once, see
+    // raised_), or always when heavier than Options::max_weight. Marks it raised if so.
+    bool waits(uint32_t id, float key, float planned);
     // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
     // was last computed, so it waits only once: the retraction's price grows a little as the
     // surface coarsens, and a plan made again later would be heavier again.

@@ -516,14 +516,11 @@ void Simplifier::step_removal(uint32_t v) {
         fail_[v] = uint32_t(operations_ + 1); // no candidate until its star changes
         return;
     }
-    // Its key was an estimate (see weight_): a re-triangulation heavier than that and than the
-    // share the pass goes through becomes its key, and the next pass ranks it with that (once,
-    // see raised_; always above Options::max_weight), as a collapse's retraction does.
+    // Its key was an estimate (see weight_): a re-triangulation that makes it wait (see waits,
+    // as a collapse's retraction does) becomes its key.
     const float error = float(plan.error);
-    if (quadric_terms_ && ((error > std::max(weight_[v], share_limit_) && !raised_[v]) ||
-                           error > options_.max_weight)) {
+    if (quadric_terms_ && waits(v, weight_[v], error)) {
         weight_[v] = error;
-        raised_[v] = 1;
         rekey_[v] = pass_;
         return;
     }
