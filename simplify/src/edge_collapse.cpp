@@ -14,6 +14,14 @@ namespace {
 // How far (in edge lengths) the least-error point may leave its edge sideways.
 constexpr double kMaxSideways = 0.5;
 
+// How far a smooth surface with unit normals na and nb at the ends of an edge of length 1 can
+// bulge from the edge: the apex of its ends' tangent lines, tan(theta / 2) / 2 for normals
+// theta apart.
+double bulge(const Vec3& na, const Vec3& nb) {
+    const double c = dot(na, nb);
+    return c > -0.9 ? 0.5 * norm(cross(na, nb)) / (1 + c) : kMaxSideways;
+}
+
 bool on_line(VertexKind k) {
     return k == VertexKind::Line || k == VertexKind::Corner;
 }
@@ -193,6 +201,29 @@ Vec3 Simplifier::ref_of(uint32_t a, uint32_t b) const {
     return add(mesh_.reference_normal(a), mesh_.reference_normal(b));
 }
 
+// The data's error reads the input's field off each input triangle's plane, and where the planes
+// bend it can pull the sideways step `d` off the surface to fit the data a little better: smooth
+// curved surfaces then come out uneven (the earth sphere at 10%, alpha = 0: Hausdorff distance
+// 0.019 without this bound, 0.0040 with it). So off the surface, along the ends' reference
+// normals, the step goes no farther than the surface can bulge between them (bulge), and across
+// it to where the error is then least. Without data (alpha = 1) the geometry alone decides.
+Vec3 Simplifier::near_surface(const SegmentSlope& slope, double t, uint32_t a, uint32_t b,
+                              const Vec3& axis, double length, const Vec3& d) const {
+    const Vec3 na = mesh_.reference_normal(a), nb = mesh_.reference_normal(b);
+    const double la = norm(na), lb = norm(nb);
+    Vec3 normal = add(na, nb);
+    normal = sub(normal, scale(axis, dot(normal, axis)));
+    const double ln = norm(normal);
+    if (!(la > 0 && lb > 0 && ln > 0)) return d;
+    normal = scale(normal, 1 / ln);
+    const double height = dot(d, normal);
+    const double most = bulge(scale(na, 1 / la), scale(nb, 1 / lb)) * length;
+    if (std::abs(height) <= most) return d;
+    const Vec3 held = quadrics_.sideways_at(slope, t, axis, normal, std::copysign(most, height));
+    const double l = norm(held);
+    return l > kMaxSideways * length ? scale(held, kMaxSideways * length / l) : held;
+}
+
 // Where the new point of collapsing h goes, and its position along the edge.
 void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
@@ -222,9 +253,11 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
         if (may_leave_edge) {
             const Vec3 edge = sub(pb, pa);
             const double length = norm(edge);
-            Vec3 d = quadrics_.sideways(slope, t, scale(edge, 1 / length));
+            const Vec3 axis = scale(edge, 1 / length);
+            Vec3 d = quadrics_.sideways(slope, t, axis);
             const double l = norm(d);
             if (l > kMaxSideways * length) d = scale(d, kMaxSideways * length / l);
+            if (quadrics_.components > 0) d = near_surface(slope, t, a, b, axis, length, d);
             if (l > 0)
                 p = add(p, d), off_edge = true, sideways_change = quadrics_.change(slope, t, d);
         }

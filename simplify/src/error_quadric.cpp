@@ -285,6 +285,26 @@ Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& ax
     return scale(detail::add(scale(u1, d[0]), scale(u2, d[1])), 1 / inv_diagonal);
 }
 
+Vec3 ErrorQuadrics::sideways_at(const SegmentSlope& slope, double t, const Vec3& axis,
+                                const Vec3& normal, double height) const {
+    if (inv_diagonal == 0) return {0, 0, 0};
+    const double* a = slope.a;
+    auto times_a = [&](const Vec3& z) {
+        return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
+                    a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
+                    a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
+    };
+    const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
+    const Vec3 across = cross(axis, normal);
+    const Vec3 a_across = times_a(across);
+    const double h11 = dot(normal, times_a(normal)), h12 = dot(normal, a_across),
+                 h22 = dot(across, a_across);
+    const double d1 = height * inv_diagonal;
+    // The 1D problem in `across` with d1 fixed, left out like sideways' weak direction.
+    const double d2 = h22 > 1e-3 * (h11 + h22) ? (-dot(across, g) - h12 * d1) / h22 : 0;
+    return scale(detail::add(scale(normal, d1), scale(across, d2)), 1 / inv_diagonal);
+}
+
 double ErrorQuadrics::change(const SegmentSlope& slope, double t, const Vec3& offset) const {
     const double* a = slope.a;
     const Vec3 d = scale(offset, inv_diagonal);

@@ -95,6 +95,11 @@ struct ErrorQuadrics {
     // vector `axis`, that lowers the summed error most (`slope` from along); directions the
     // quadrics hardly determine are left out (a truncated inverse).
     Vec3 sideways(const SegmentSlope& slope, double t, const Vec3& axis) const;
+    // The same with the offset's component along the unit vector `normal` (perpendicular to
+    // `axis`) held at `height` (raw units): the offset height * normal + s * (axis x normal) with
+    // the s of least error (0 where the quadrics hardly determine it).
+    Vec3 sideways_at(const SegmentSlope& slope, double t, const Vec3& axis, const Vec3& normal,
+                     double height) const;
     // How the summed error changes when the segment's point of position t moves by `offset`
     // (raw units), its data held: 2 grad.d + d.A.d, exactly, as the error is quadratic.
     double change(const SegmentSlope& slope, double t, const Vec3& offset) const;

@@ -115,6 +115,8 @@ private:
     void update_length(uint32_t h); // after a corner of h's triangle moved
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
+    detail::Vec3 near_surface(const detail::SegmentSlope& slope, double t, uint32_t a, uint32_t b,
+                              const detail::Vec3& axis, double length, const detail::Vec3& d) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
     void apply_collapse(const CollapsePlan& plan);

@@ -1,8 +1,8 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
-// placement and the error change it reports, and the error at one point, against the quadrics
-// evaluated along a segment; the least error over points, against each point alone. The quadrics
-// are built by hand from planes and a linear field, so that
-// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+// placement (free, or at a held height) and the error change it reports, and the error at one
+// point, against the quadrics evaluated along a segment; the least error over points, against each
+// point alone. The quadrics are built by hand from planes and a linear field, so that E(x, s) = sum
+// (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
 #include "error_quadric.h"
 #include "working_mesh.h"
 
@@ -76,6 +76,33 @@ TEST(ErrorQuadrics, SidewaysChangeEqualsTheErrorAtTheMovedPoint) {
         EXPECT_NEAR(on_edge + q.change(slope, t, other), other_fresh, 1e-12 * (1 + on_edge));
         EXPECT_LE(fresh, other_fresh + 1e-15) << "t = " << t;
     }
+}
+
+// With its height along a normal held, the step goes across to the least error at that height:
+// the offset's height is the one asked for, it stays square to the edge, any other offset at the
+// same height has at least its error, and held at the free step's own height it is the free step.
+TEST(ErrorQuadrics, SidewaysAtAHeightIsTheLeastErrorThere) {
+    const ErrorQuadrics q = two_quadrics();
+    const Vec3 xa{0.10, -0.05, 0.02}, xb{0.16, 0.03, -0.01};
+    const float fa[1] = {0.25f}, fb[1] = {0.40f};
+    SegmentSlope slope;
+    q.along(0, 1, xa, xb, fa, fb, &slope);
+    const Vec3 axis = unit(sub(xb, xa));
+    const Vec3 normal = unit(cross(axis, cross({0.1, 0.1, 1.0}, axis))); // square to the axis
+    const Vec3 across = cross(axis, normal);
+    for (double t : {0.0, 0.4, 1.0})
+        for (double height : {-0.02, 0.0, 0.005}) {
+            const Vec3 d = q.sideways_at(slope, t, axis, normal, height);
+            EXPECT_NEAR(dot(d, normal), height, 1e-15) << "t = " << t;
+            EXPECT_NEAR(dot(d, axis), 0.0, 1e-15) << "t = " << t;
+            const double least = q.change(slope, t, d);
+            for (double s : {-0.01, -1e-4, 1e-4, 0.01})
+                EXPECT_LE(least, q.change(slope, t, add(d, scale(across, s))) + 1e-15)
+                    << "t = " << t << ", height " << height << ", moved across by " << s;
+        }
+    const Vec3 free = q.sideways(slope, 0.4, axis);
+    const Vec3 held = q.sideways_at(slope, 0.4, axis, normal, dot(free, normal));
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(held[k], free[k], 1e-12);
 }
 
 TEST(ErrorQuadrics, ErrorAtAPointEqualsTheSegmentsErrorThere) {
