@@ -246,14 +246,19 @@ double ErrorQuadrics::least_at(uint32_t v, const WorkingMesh& mesh, const uint32
     return least;
 }
 
+namespace {
+
+// The symmetric 3x3 matrix a (6 numbers: xx, xy, xz, yy, yz, zz) times z.
+Vec3 symmetric_times(const double* a, const Vec3& z) {
+    return {a[0] * z[0] + a[1] * z[1] + a[2] * z[2], a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
+            a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
+}
+
+} // namespace
+
 Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& axis) const {
     if (inv_diagonal == 0) return {0, 0, 0};
-    const double* a = slope.a;
-    auto times_a = [&](const Vec3& z) {
-        return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
-                    a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
-                    a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
-    };
+    auto times_a = [&](const Vec3& z) { return symmetric_times(slope.a, z); };
     const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
     Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
@@ -288,12 +293,7 @@ Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& ax
 Vec3 ErrorQuadrics::sideways_at(const SegmentSlope& slope, double t, const Vec3& axis,
                                 const Vec3& normal, double height) const {
     if (inv_diagonal == 0) return {0, 0, 0};
-    const double* a = slope.a;
-    auto times_a = [&](const Vec3& z) {
-        return Vec3{a[0] * z[0] + a[1] * z[1] + a[2] * z[2],
-                    a[1] * z[0] + a[3] * z[1] + a[4] * z[2],
-                    a[2] * z[0] + a[4] * z[1] + a[5] * z[2]};
-    };
+    auto times_a = [&](const Vec3& z) { return symmetric_times(slope.a, z); };
     const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     const Vec3 across = cross(axis, normal);
     const Vec3 a_across = times_a(across);
@@ -306,10 +306,8 @@ Vec3 ErrorQuadrics::sideways_at(const SegmentSlope& slope, double t, const Vec3&
 }
 
 double ErrorQuadrics::change(const SegmentSlope& slope, double t, const Vec3& offset) const {
-    const double* a = slope.a;
     const Vec3 d = scale(offset, inv_diagonal);
-    const Vec3 ad{a[0] * d[0] + a[1] * d[1] + a[2] * d[2], a[1] * d[0] + a[3] * d[1] + a[4] * d[2],
-                  a[2] * d[0] + a[4] * d[1] + a[5] * d[2]};
+    const Vec3 ad = symmetric_times(slope.a, d);
     return 2 * dot(detail::add(slope.slope0, scale(slope.slope1, t)), d) + dot(d, ad);
 }
 
