@@ -1,8 +1,8 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
 // placement (free, or at a held height) and the error change it reports, and the error at one
-// point, against the quadrics evaluated along a segment; the least error over points, against each
-// point alone. The quadrics are built by hand from planes and a linear field, so that E(x, s) = sum
-// (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+// point, against the quadrics evaluated along a segment; the least error over points, against
+// each point alone. The quadrics are built by hand from planes and a linear field, so that
+// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
 #include "error_quadric.h"
 #include "working_mesh.h"
 
