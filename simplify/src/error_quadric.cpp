@@ -258,14 +258,13 @@ Vec3 symmetric_times(const double* a, const Vec3& z) {
 
 Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& axis) const {
     if (inv_diagonal == 0) return {0, 0, 0};
-    auto times_a = [&](const Vec3& z) { return symmetric_times(slope.a, z); };
     const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
     Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     u1 = sub(u1, scale(axis, dot(u1, axis)));
     u1 = scale(u1, 1 / norm(u1));
     const Vec3 u2 = cross(axis, u1);
-    const Vec3 au1 = times_a(u1), au2 = times_a(u2);
+    const Vec3 au1 = symmetric_times(slope.a, u1), au2 = symmetric_times(slope.a, u2);
     const double h11 = dot(u1, au1), h12 = dot(u1, au2), h22 = dot(u2, au2);
     const double r[2] = {-dot(u1, g), -dot(u2, g)};
     const double half = 0.5 * (h11 + h22);
@@ -293,11 +292,10 @@ Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& ax
 Vec3 ErrorQuadrics::sideways_at(const SegmentSlope& slope, double t, const Vec3& axis,
                                 const Vec3& normal, double height) const {
     if (inv_diagonal == 0) return {0, 0, 0};
-    auto times_a = [&](const Vec3& z) { return symmetric_times(slope.a, z); };
     const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     const Vec3 across = cross(axis, normal);
-    const Vec3 a_across = times_a(across);
-    const double h11 = dot(normal, times_a(normal)), h12 = dot(normal, a_across),
+    const Vec3 a_across = symmetric_times(slope.a, across);
+    const double h11 = dot(normal, symmetric_times(slope.a, normal)), h12 = dot(normal, a_across),
                  h22 = dot(across, a_across);
     const double d1 = height * inv_diagonal;
     // The 1D problem in `across` with d1 fixed, left out like sideways' weak direction.
