@@ -67,7 +67,9 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
                     "Refuse operations that turn a normal more (degrees)")
         ->check(CLI::Range(0.0, 180.0))
         ->capture_default_str();
-    command.add_option("--threads", args.threads, "Threads for the set-up stages")
+    command
+        .add_option("--threads", args.threads,
+                    "Threads for the set-up stages and the keys of each pass (same output)")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
     command.add_flag("--json", args.json, "Print one JSON object instead of a summary");

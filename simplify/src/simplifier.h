@@ -166,6 +166,8 @@ private:
     // born_ holds the edges a collapse made since the last pass (merged edges get new ids).
     // Each pool member keeps its key and the pass after which it was computed (kNever: not yet).
     static constexpr uint32_t kNever = 0xffffffffu;
+    // A member whose key rank_candidates computes again (passes never count up to it).
+    static constexpr uint32_t kStale = kNever - 1;
     struct Member {
         uint32_t id, keyed;
         detail::Key key;
@@ -173,6 +175,8 @@ private:
     // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
     // so they are in id order too.
     std::vector<Member> pool_;
+    // rank_candidates' scratch on several threads: the pool members that are candidates this pass.
+    std::vector<uint32_t> candidates_;
     std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
     // The pass's lightest, sorted; all candidates before the ranking (then scratch space).

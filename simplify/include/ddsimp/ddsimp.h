@@ -194,7 +194,8 @@ struct Options {
     // than 175 degrees apart, docs/algorithm.md) are kept the same way.
     std::vector<std::uint8_t> locked;
 
-    // Threads for the per-vertex set-up stages; the output does not depend on it.
+    // Threads for the per-vertex set-up stages and for the keys each pass ranks (what edge
+    // collapse spends most on); the output does not depend on it.
     int threads = 1;
     // Called now and then with the fraction of the work done; return false to cancel.
     std::function<bool(double)> progress;
