@@ -261,39 +261,32 @@ void Simplifier::rank_candidates(size_t& share) {
         if (!std::isinf(m.key.weight))
             scratch_.push_back(detail::Candidate::make(m.key, uint32_t(i)));
     };
-    // Compiled once per mode, so that one thread pays nothing for the other.
-    auto sweep = [&]<bool kThreaded>() {
-        size_t kept = 0;
-        for (const Member& member : pool_) {
-            const uint32_t id = member.id;
-            const uint32_t a = collapse ? mesh_.origin[id] : id;
-            const bool live = collapse
-                                  ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
-                                  : mesh_.kind[id] != VertexKind::Dead;
-            if (!live) {
-                listed_[id] = 0;
-                continue;
-            }
-            Member& m = pool_[kept++];
-            m = member;
-            const uint32_t b = collapse ? mesh_.dest(id) : kNone;
-            if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
-            const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
-            const bool stale = m.keyed == kNever || changed > m.keyed;
-            if constexpr (kThreaded) {
-                if (stale) m.keyed = kStale;
-                candidates_.push_back(uint32_t(kept - 1));
-            } else {
-                if (stale) rekey(m, id);
-                add_candidate(m, kept - 1);
-            }
+    size_t kept = 0;
+    for (const Member& member : pool_) {
+        const uint32_t id = member.id;
+        const uint32_t a = collapse ? mesh_.origin[id] : id;
+        const bool live = collapse ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
+                                   : mesh_.kind[id] != VertexKind::Dead;
+        if (!live) {
+            listed_[id] = 0;
+            continue;
         }
-        pool_.resize(kept);
-    };
-    if (!threaded) {
-        sweep.template operator()<false>();
-    } else {
-        sweep.template operator()<true>();
+        Member& m = pool_[kept++];
+        m = member;
+        const uint32_t b = collapse ? mesh_.dest(id) : kNone;
+        if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
+        const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
+        const bool stale = m.keyed == kNever || changed > m.keyed;
+        if (threaded) {
+            if (stale) m.keyed = kStale;
+            candidates_.push_back(uint32_t(kept - 1));
+        } else {
+            if (stale) rekey(m, id);
+            add_candidate(m, kept - 1);
+        }
+    }
+    pool_.resize(kept);
+    if (threaded) {
         parallel_for(candidates_.size(), options_.threads, [&](size_t begin, size_t end) {
             for (size_t i = begin; i < end; ++i)
                 if (Member& m = pool_[candidates_[i]]; m.keyed == kStale) rekey(m, m.id);
