@@ -71,6 +71,16 @@ Key Simplifier::collapse_key(uint32_t h) const {
     return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
 }
 
+void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
+    for (const uint32_t v : {a, b}) {
+        __builtin_prefetch(mesh_.position_of(v));
+        if (quadrics_.values.empty()) continue;
+        const char* q = reinterpret_cast<const char*>(quadrics_.of(v));
+        for (size_t line = 0; line < quadrics_.size * sizeof(double); line += 64)
+            __builtin_prefetch(q + line);
+    }
+}
+
 void Simplifier::update_length(uint32_t h) {
     length_[h] = float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
 }

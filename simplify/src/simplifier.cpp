@@ -261,6 +261,15 @@ void Simplifier::rank_candidates(size_t& share) {
         if (!std::isinf(m.key.weight))
             scratch_.push_back(detail::Candidate::make(m.key, uint32_t(i)));
     };
+    // On one thread a stale key is computed kKeysAhead candidates after the sweep lists it, its
+    // memory fetched meanwhile (prefetch_key), while what the sweep read for it is still at hand;
+    // the candidates still join in pool order.
+    uint32_t ahead[kKeysAhead];
+    size_t listed = 0, keyed = 0;
+    auto key_and_add = [&](uint32_t i) {
+        if (pool_[i].keyed == kStale) rekey(pool_[i], pool_[i].id);
+        add_candidate(pool_[i], i);
+    };
     size_t kept = 0;
     for (const Member& member : pool_) {
         const uint32_t id = member.id;
@@ -276,15 +285,16 @@ void Simplifier::rank_candidates(size_t& share) {
         const uint32_t b = collapse ? mesh_.dest(id) : kNone;
         if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
         const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
-        const bool stale = m.keyed == kNever || changed > m.keyed;
+        if (m.keyed == kNever || changed > m.keyed) m.keyed = kStale;
         if (threaded) {
-            if (stale) m.keyed = kStale;
             candidates_.push_back(uint32_t(kept - 1));
-        } else {
-            if (stale) rekey(m, id);
-            add_candidate(m, kept - 1);
+            continue;
         }
+        if (collapse && m.keyed == kStale) prefetch_key(a, b);
+        ahead[listed++ % kKeysAhead] = uint32_t(kept - 1);
+        if (listed - keyed == kKeysAhead) key_and_add(ahead[keyed++ % kKeysAhead]);
     }
+    while (keyed < listed) key_and_add(ahead[keyed++ % kKeysAhead]);
     pool_.resize(kept);
     if (threaded) {
         parallel_for(candidates_.size(), options_.threads, [&](size_t begin, size_t end) {
@@ -298,6 +308,22 @@ void Simplifier::rank_candidates(size_t& share) {
                 ? 0
                 : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(scratch_.size()))));
     detail::lightest_sorted(scratch_, share, order_);
+}
+
+void Simplifier::prefetch_steps_after(size_t i, size_t share) const {
+    if (options_.strategy != Strategy::EdgeCollapse) return; // measured: no gain for removal
+    if (i + 16 < share) __builtin_prefetch(&pool_[order_[i + 16].id]);
+    if (i + 8 < share) {
+        const uint32_t h = pool_[order_[i + 8].id].id;
+        __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
+    }
+    if (i + 4 >= share) return;
+    const uint32_t h = pool_[order_[i + 4].id].id, a = mesh_.origin[h];
+    if (a == kNone) return;
+    for (const uint32_t v : {a, mesh_.dest(h)}) {
+        __builtin_prefetch(&busy_[v]), __builtin_prefetch(&mesh_.out[v]);
+        __builtin_prefetch(mesh_.position_of(v));
+    }
 }
 
 bool Simplifier::waits(uint32_t id, float key, float planned) {
@@ -344,6 +370,7 @@ ProgressiveRecord Simplifier::run() {
             ++pass_;
             for (size_t i = 0; i < share; ++i) {
                 const detail::Candidate c = order_[i];
+                prefetch_steps_after(i, share);
                 if (c.weight() > options_.max_weight) continue; // heavier ones may follow
                 const size_t before = operations_;
                 if (options_.strategy == Strategy::EdgeCollapse)
