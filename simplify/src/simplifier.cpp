@@ -265,7 +265,7 @@ void Simplifier::rank_candidates(size_t& share) {
     // memory fetched meanwhile (prefetch_key), while what the sweep read for it is still at hand;
     // the candidates still join in pool order.
     uint32_t ahead[kKeysAhead];
-    size_t listed = 0, keyed = 0;
+    size_t queued = 0, keyed = 0;
     auto key_and_add = [&](uint32_t i) {
         if (pool_[i].keyed == kStale) rekey(pool_[i], pool_[i].id);
         add_candidate(pool_[i], i);
@@ -291,10 +291,10 @@ void Simplifier::rank_candidates(size_t& share) {
             continue;
         }
         if (collapse && m.keyed == kStale) prefetch_key(a, b);
-        ahead[listed++ % kKeysAhead] = uint32_t(kept - 1);
-        if (listed - keyed == kKeysAhead) key_and_add(ahead[keyed++ % kKeysAhead]);
+        ahead[queued++ % kKeysAhead] = uint32_t(kept - 1);
+        if (queued - keyed == kKeysAhead) key_and_add(ahead[keyed++ % kKeysAhead]);
     }
-    while (keyed < listed) key_and_add(ahead[keyed++ % kKeysAhead]);
+    while (keyed < queued) key_and_add(ahead[keyed++ % kKeysAhead]);
     pool_.resize(kept);
     if (threaded) {
         parallel_for(candidates_.size(), options_.threads, [&](size_t begin, size_t end) {
