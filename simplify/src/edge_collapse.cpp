@@ -13,6 +13,8 @@ using namespace detail;
 namespace {
 // How far (in edge lengths) the least-error point may leave its edge sideways.
 constexpr double kMaxSideways = 0.5;
+// Bytes per cache line (x86-64, ARMv8), for prefetch_key's steps through a quadric.
+constexpr size_t kCacheLine = 64;
 
 // How far a smooth surface with unit normals na and nb at the ends of an edge of length 1 can
 // bulge from the edge: the apex of its ends' tangent lines, tan(theta / 2) / 2 for normals
@@ -76,7 +78,7 @@ void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
         __builtin_prefetch(mesh_.position_of(v));
         if (quadrics_.values.empty()) continue;
         const char* q = reinterpret_cast<const char*>(quadrics_.of(v));
-        for (size_t line = 0; line < quadrics_.size * sizeof(double); line += 64)
+        for (size_t line = 0; line < quadrics_.size * sizeof(double); line += kCacheLine)
             __builtin_prefetch(q + line);
     }
 }

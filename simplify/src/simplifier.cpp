@@ -310,8 +310,7 @@ void Simplifier::rank_candidates(size_t& share) {
     detail::lightest_sorted(scratch_, share, order_);
 }
 
-void Simplifier::prefetch_steps_after(size_t i, size_t share) const {
-    if (options_.strategy != Strategy::EdgeCollapse) return; // measured: no gain for removal
+void Simplifier::prefetch_collapses_after(size_t i, size_t share) const {
     if (i + 16 < share) __builtin_prefetch(&pool_[order_[i + 16].id]);
     if (i + 8 < share) {
         const uint32_t h = pool_[order_[i + 8].id].id;
@@ -370,7 +369,8 @@ ProgressiveRecord Simplifier::run() {
             ++pass_;
             for (size_t i = 0; i < share; ++i) {
                 const detail::Candidate c = order_[i];
-                prefetch_steps_after(i, share);
+                if (options_.strategy == Strategy::EdgeCollapse) // no gain measured for removal
+                    prefetch_collapses_after(i, share);
                 if (c.weight() > options_.max_weight) continue; // heavier ones may follow
                 const size_t before = operations_;
                 if (options_.strategy == Strategy::EdgeCollapse)

@@ -95,10 +95,10 @@ private:
     void rank_candidates(size_t& share);
     // How many candidates after listing one rank_candidates computes its key (see there).
     static constexpr size_t kKeysAhead = 16;
-    // Edge collapse: fetches what the pass's steps after step i read first, in stages (a prefetch
-    // changes no result): the pool member 16 steps ahead, its half-edge 8 ahead, its ends' records
-    // 4 ahead. The steps go through the surface in id order, but sparsely.
-    void prefetch_steps_after(size_t i, size_t share) const;
+    // Fetches what the pass's collapses after step i read first, in stages (a prefetch changes no
+    // result): the pool member 16 steps ahead, its half-edge 8 ahead, its ends' records 4 ahead.
+    // The steps go through the surface in id order, but sparsely.
+    void prefetch_collapses_after(size_t i, size_t share) const;
     bool report_progress(size_t live, size_t target);
     // The weight of the quadrics' geometric error: alpha, but at least kMinGeometryWeight.
     double geometry_weight() const;
