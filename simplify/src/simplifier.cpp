@@ -21,20 +21,6 @@ detail::Limits limits_from(const Options& o) {
     return limits;
 }
 
-void check_options(const Options& o) {
-    auto fail = [](const std::string& what) { throw InputError("invalid option: " + what); };
-    if (!(o.alpha >= 0 && o.alpha <= 1)) fail("alpha must be in [0, 1]");
-    if (!(o.keep_fraction >= 0 && o.keep_fraction <= 1)) fail("keep fraction must be in [0, 1]");
-    if (std::isnan(o.max_weight)) fail("max weight is NaN");
-    if (!(o.feature_angle >= 0 && o.feature_angle <= 180))
-        fail("feature angle must be in [0, 180] degrees");
-    if (!(o.line_tolerance >= 0 && o.line_tolerance < 180))
-        fail("line tolerance must be in [0, 180) degrees");
-    if (!(o.max_normal_turn > 0 && o.max_normal_turn < 180))
-        fail("max normal turn must be in (0, 180) degrees");
-    if (o.threads < 1) fail("threads must be at least 1");
-}
-
 // Runs f(begin, end) over [0, n) on `threads` threads; each index is touched by one thread only.
 template <class F> void parallel_for(size_t n, int threads, F&& f) {
     if (threads <= 1 || n < 4096) return f(size_t(0), n);
@@ -339,10 +325,7 @@ bool Simplifier::report_progress(size_t live, size_t target) {
 }
 
 ProgressiveRecord Simplifier::run() {
-    const size_t in = record_.triangles_in_;
-    const size_t target = options_.target_triangles > 0
-                              ? options_.target_triangles
-                              : size_t(std::floor(options_.keep_fraction * double(in) + 1e-9));
+    const size_t target = target_triangles(options_, record_.triangles_in_);
     // Pass after pass: rank every candidate by its key on the current surface, then go through
     // the lightest share of them in that order. A candidate next to an operation of this pass
     // waits for the next pass, where it is ranked again with its new key. Nothing here depends on

@@ -319,6 +319,40 @@ TEST_P(Simplify, RejectsInvalidOptions) {
     EXPECT_THROW(simplify(in, o), InputError);
 }
 
+// The public check names the option that is wrong and accepts the defaults.
+TEST(CheckOptions, NamesTheOptionAndAcceptsDefaults) {
+    EXPECT_NO_THROW(check_options(Options{}));
+    const auto message = [](Options o) {
+        try {
+            check_options(o);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    Options o;
+    o.alpha = 1.5;
+    EXPECT_NE(message(o).find("alpha"), std::string::npos) << message(o);
+    o = Options{};
+    o.feature_angle = 181;
+    EXPECT_NE(message(o).find("feature angle"), std::string::npos) << message(o);
+    o = Options{};
+    o.threads = 0;
+    EXPECT_NE(message(o).find("threads"), std::string::npos) << message(o);
+}
+
+// The triangle target: a count wins over a fraction; a fraction counts as the library's run does.
+TEST(CheckOptions, TargetTriangles) {
+    Options o;
+    o.keep_fraction = 0.1;
+    EXPECT_EQ(target_triangles(o, 1000), 100u);
+    EXPECT_EQ(target_triangles(o, 1009), 100u);
+    o.keep_fraction = 0.3;
+    EXPECT_EQ(target_triangles(o, 10), 3u); // 0.3 x 10 is 2.9999999999999996 in doubles
+    o.target_triangles = 7;
+    EXPECT_EQ(target_triangles(o, 1000), 7u);
+}
+
 TEST(Simplify, DescribeNamesEveryStopReason) {
     std::set<std::string> texts;
     for (StopReason r : {StopReason::TargetReached, StopReason::WeightBound,

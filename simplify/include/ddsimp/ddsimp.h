@@ -201,6 +201,15 @@ struct Options {
     std::function<bool(double)> progress;
 };
 
+// Throws InputError with a message that names the option if `options` is out of range (alpha
+// outside [0, 1], a negative thread count, ...). simplify and ProgressiveRecord::build call it;
+// callers that take options from users (command lines, the server) call it first.
+void check_options(const Options& options);
+
+// The triangle count `options` asks for from a surface of `triangles_in` (repaired) triangles:
+// target_triangles if set, else floor(keep_fraction x triangles_in).
+size_t target_triangles(const Options& options, size_t triangles_in);
+
 // What a simplification did.
 struct Result {
     Surface surface; // the reduced surface, every field carried, unused vertices dropped
