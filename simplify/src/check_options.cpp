@@ -18,7 +18,7 @@ void check_options(const Options& o) {
         fail("line tolerance must be in [0, 180) degrees");
     if (!(o.max_normal_turn > 0 && o.max_normal_turn < 180))
         fail("max normal turn must be in (0, 180) degrees");
-    if (o.threads < 1) fail("threads must be at least 1");
+    if (o.threads < 0) fail("threads must be at least 0 (0: every hardware thread)");
 }
 
 size_t target_triangles(const Options& o, size_t triangles_in) {

@@ -60,7 +60,7 @@ bool Simplifier::collapsible(uint32_t h, uint32_t a, uint32_t b) const {
     const uint32_t t = mesh_.twin[h];
     for (uint32_t v :
          {a, b, mesh_.origin[prev(h)], t != kNone ? mesh_.origin[prev(t)] : mesh_.origin[h]})
-        if (epoch_[v] > failed) return true;
+        if (epoch_[v] >= failed) return true;
     return false;
 }
 
@@ -120,31 +120,13 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     // them while the link condition runs (a prefetch changes no result).
     for (size_t i = 0; i < na; ++i) __builtin_prefetch(mesh_.position_of(ring_a[i]));
     for (size_t i = 0; i < nb; ++i) __builtin_prefetch(mesh_.position_of(ring_b[i]));
-    // a's neighbours marked (scratch stamps), then b's looked up: one pass each instead of
-    // comparing every pair. A ring that holds a vertex twice (counted twice by the pairs) is
-    // compared pairwise.
-    if (++seen_now_ == 0) std::fill(seen_.begin(), seen_.end(), 0), seen_now_ = 1;
-    bool repeated = false;
-    for (size_t i = 0; i < na; ++i) {
-        uint32_t& seen = seen_[ring_a[i]];
-        repeated |= seen == seen_now_;
-        seen = seen_now_;
-    }
     size_t common = 0;
-    if (!repeated) {
+    for (size_t i = 0; i < na; ++i)
         for (size_t j = 0; j < nb; ++j)
-            if (seen_[ring_b[j]] == seen_now_) {
-                if (ring_b[j] != x && ring_b[j] != y) return false;
+            if (ring_a[i] == ring_b[j]) {
+                if (ring_a[i] != x && ring_a[i] != y) return false;
                 ++common;
             }
-    } else {
-        for (size_t i = 0; i < na; ++i)
-            for (size_t j = 0; j < nb; ++j)
-                if (ring_a[i] == ring_b[j]) {
-                    if (ring_a[i] != x && ring_a[i] != y) return false;
-                    ++common;
-                }
-    }
     if (common != (y == kNone ? 1u : 2u)) return false;
     // If both ends have a triangle on the two apexes, those two would become the same triangle:
     // an apex of valence 3, or a tetrahedron hanging on a non-manifold edge x-y.
@@ -325,7 +307,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     }
 }
 
-void Simplifier::apply_collapse(const CollapsePlan& plan) {
+void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     WorkingMesh& m = mesh_;
     const uint32_t h = plan.halfedge, ht = m.twin[h];
     const uint32_t a = m.origin[h], b = m.dest(h);
@@ -364,7 +346,6 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
         for (uint32_t c = 0; c < 3; ++c) {
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
         }
-        --m.live_triangles;
     }
 
     // The new vertex.
@@ -397,12 +378,12 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     m.reset_out(x, entry_x);
     if (y != kNone) m.reset_out(y, entry_y);
 
-    record_.collapse_.push_back(id_[a]);
-    record_.collapse_.push_back(id_[b]);
-    id_[n] = uint32_t(record_.input_vertices_ + operations_);
-    made_.insert(made_.end(), m.position_of(n), m.position_of(n) + 3);
-    made_.insert(made_.end(), dn, dn + m.stride);
-    ++operations_;
+    record_.collapse_[2 * index] = id_[a];
+    record_.collapse_[2 * index + 1] = id_[b];
+    id_[n] = uint32_t(record_.input_vertices_ + index);
+    float* made = &made_[index * (3 + m.stride)];
+    std::copy_n(m.position_of(n), 3, made);
+    std::copy_n(dn, m.stride, made + 3);
 
     // n, then its apexes (which lost a neighbour and may have merged line flags), then the rest
     // of its ring.
@@ -415,12 +396,8 @@ void Simplifier::apply_collapse(const CollapsePlan& plan) {
     refresh_around(changed, k + 1, kept_from);
 }
 
-void Simplifier::step_collapse(Member& candidate) {
-    // Gone, or next to an earlier operation of this pass (which may also have merged h's edge
-    // into another): its key is out of date, the next pass ranks it again.
-    const uint32_t h = candidate.id, a = mesh_.origin[h];
-    if (a == kNone || busy_[a] == pass_ || busy_[mesh_.dest(h)] == pass_) return;
-    CollapsePlan plan;
+Simplifier::Check Simplifier::check_collapse(Member& candidate, CollapsePlan& plan) {
+    const uint32_t h = candidate.id;
     if (plan_collapse(h, plan)) {
         // Its key left the retraction out (too costly for every key): if that makes it heavier
         // than the share the pass goes through, it waits for the next pass with its full key
@@ -429,16 +406,16 @@ void Simplifier::step_collapse(Member& candidate) {
         const float full = float(plan.error + plan.retraction);
         if (waits(h, candidate.key.weight, full)) {
             candidate.key.weight = full;
-            return;
+            return Check::Waits;
         }
-        apply_collapse(plan);
-        return;
+        return Check::Taken;
     }
     // Refused: it is no candidate until a change around it.
-    fail_[h] = uint32_t(operations_ + 1);
+    fail_[h] = pass_;
     fail_at_[h] = plan.refused_at;
     if (mesh_.twin[h] != kNone)
         fail_[mesh_.twin[h]] = fail_[h], fail_at_[mesh_.twin[h]] = plan.refused_at;
+    return Check::Refused;
 }
 
 } // namespace ddsimp

@@ -1,6 +1,7 @@
 // The order of one pass: every candidate (an edge or a vertex) with its key, sorted lightest
 // first by a stable radix sort, so that equal keys keep the candidates' id order and the order is
-// total and deterministic. A pass takes the lightest part of this order (see Simplifier::run).
+// total and deterministic. A pass selects from the lightest part of this order (see
+// Simplifier::run_pass).
 #pragma once
 
 #include <algorithm>
@@ -95,46 +96,6 @@ inline void lightest_sorted(std::vector<Candidate>& items, size_t count,
         out.swap(items);
     }
     sort_candidates(out, items);
-}
-
-// The first `share` items of `order` (sorted by key) cut into `runs` runs of equal count, each
-// re-sorted by id: a pass still goes from the lighter candidates to the heavier, run by run, but
-// within a run in id order, which follows the mesh, so that one operation finds the memory of the
-// last still in the cache. Ids are unique, so counting passes over their 11-bit digits give the
-// one order any sort would (a comparison sort for short runs). `scratch` is reused.
-inline void runs_in_id_order(std::vector<Candidate>& order, size_t share, size_t runs,
-                             std::vector<Candidate>& scratch) {
-    constexpr int kIdDigitBits = 11;
-    constexpr uint32_t kIdDigitValues = uint32_t(1) << kIdDigitBits;
-    constexpr size_t kShortRun = 256;
-    uint32_t count[kIdDigitValues];
-    for (size_t r = 0; r < runs; ++r) {
-        Candidate* const begin = order.data() + share * r / runs;
-        const size_t n = size_t(order.data() + share * (r + 1) / runs - begin);
-        if (n < kShortRun) {
-            std::sort(begin, begin + n,
-                      [](const Candidate& x, const Candidate& y) { return x.id < y.id; });
-            continue;
-        }
-        uint32_t bits = 0; // every id's bits, to skip the digits no id has
-        for (size_t i = 0; i < n; ++i) bits |= begin[i].id;
-        scratch.resize(n);
-        Candidate *from = begin, *to = scratch.data();
-        for (int shift = 0; shift < 32 && (bits >> shift) != 0; shift += kIdDigitBits) {
-            std::fill_n(count, kIdDigitValues, 0u);
-            for (size_t i = 0; i < n; ++i) ++count[(from[i].id >> shift) & (kIdDigitValues - 1)];
-            uint32_t sum = 0;
-            for (uint32_t& c : count) {
-                const uint32_t here = c;
-                c = sum;
-                sum += here;
-            }
-            for (size_t i = 0; i < n; ++i)
-                to[count[(from[i].id >> shift) & (kIdDigitValues - 1)]++] = from[i];
-            std::swap(from, to);
-        }
-        if (from != begin) std::copy_n(from, n, begin);
-    }
 }
 
 } // namespace ddsimp::detail

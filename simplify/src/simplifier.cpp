@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <numbers>
-#include <thread>
 
 namespace ddsimp {
 
@@ -19,16 +19,6 @@ detail::Limits limits_from(const Options& o) {
     limits.straight_cos = cosine(o.line_tolerance);
     limits.normal_turn_cos = cosine(o.max_normal_turn);
     return limits;
-}
-
-// Runs f(begin, end) over [0, n) on `threads` threads; each index is touched by one thread only.
-template <class F> void parallel_for(size_t n, int threads, F&& f) {
-    if (threads <= 1 || n < 4096) return f(size_t(0), n);
-    std::vector<std::thread> pool;
-    const size_t chunk = (n + size_t(threads) - 1) / size_t(threads);
-    for (size_t begin = 0; begin < n; begin += chunk)
-        pool.emplace_back([&, begin] { f(begin, std::min(n, begin + chunk)); });
-    for (std::thread& t : pool) t.join();
 }
 
 // Vertices renumbered in the order the triangles first use them: a mesher writes triangles in
@@ -48,7 +38,7 @@ std::vector<uint32_t> locality_order(const Surface& s) {
 } // namespace
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
-    : options_(options), input_(surface) {
+    : options_(options), parallel_(options.threads), input_(surface) {
     check_options(options);
     if (!options.locked.empty() && options.locked.size() != surface.vertex_count())
         throw InputError("invalid option: locked has " + std::to_string(options.locked.size()) +
@@ -75,21 +65,16 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     raised_.assign(ids, 0);
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, 0);
+    claim_.assign(capacity, kFree);
     rekey_.assign(capacity, 0);
-    if (collapse) {
-        fail_at_.assign(surface.triangles.size(), kNone);
-        seen_.assign(capacity, 0);
-    }
+    if (collapse) fail_at_.assign(surface.triangles.size(), kNone);
 
     record_.strategy_ = options.strategy;
     record_.base_triangles_ = surface.triangles;
     record_.triangles_in_ = surface.triangle_count();
     record_.input_vertices_ = surface.vertex_count();
     record_.repairs_ = repairs;
-    if (options.strategy == Strategy::VertexRemoval) {
-        record_.write_begin_.push_back(0);
-        ring_at_.assign(capacity, kNotInRing);
-    }
+    if (options.strategy == Strategy::VertexRemoval) record_.write_begin_.push_back(0);
 
     const size_t n = surface.vertex_count();
     for (uint32_t v = 0; v < n; ++v) vertices_in_use_ += mesh_.kind[v] != VertexKind::Dead;
@@ -102,7 +87,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     // The paper's terms, then their means over the vertices that can take part.
     std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);
     if (!quadric_terms_)
-        parallel_for(n, options.threads, [&](size_t begin, size_t end) {
+        parallel_.for_range(n, [&](size_t begin, size_t end) {
             for (size_t v = begin; v < end; ++v) {
                 curvature[v] = mesh_.curvature(uint32_t(v));
                 gradient[v] = gradient_.at(mesh_, uint32_t(v));
@@ -179,10 +164,9 @@ void Simplifier::refresh_vertex(uint32_t v) {
 
 // After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are
 // recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
-// weight changed), and the rest of the pass leaves them alone. changed[0] is a collapse's new
-// vertex: its edges are new and join the pool.
+// weight changed). changed[0] is a collapse's new vertex.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
-    const uint32_t epoch = uint32_t(operations_ + 1);
+    const uint32_t epoch = pass_;
     // With the error quadrics, an edge's key reads only its ends' quadrics, positions, data and
     // kinds (and, for the volume-preserving point, their stars). A collapse changes these for the
     // new vertex, changed[0], and at most the kinds of the others: their edges keep their keys
@@ -194,13 +178,13 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t ke
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         epoch_[v] = epoch;
-        busy_[v] = pass_;
         const VertexKind kind = mesh_.kind[v];
         if (!collapse_quadrics || i < kept_from || kind != VertexKind::Free) refresh_vertex(v);
         if (!collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys) rekey_[v] = pass_;
     }
-    if (options_.strategy != Strategy::EdgeCollapse) return;
-    const uint32_t n = changed[0];
+}
+
+void Simplifier::list_edges_of(uint32_t n) {
     mesh_.for_each_edge(n, [&](uint32_t h, uint32_t, bool) {
         const uint32_t t = mesh_.twin[h];
         const uint32_t id = t != kNone && t < h ? t : h;
@@ -221,7 +205,7 @@ double Simplifier::retraction_scale() const {
            quadrics_.inv_diagonal;
 }
 
-void Simplifier::rank_candidates(size_t& share) {
+bool Simplifier::rank_candidates(size_t& share) {
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
     // The pool without what died, merged with what was born, in id order; every candidate with
     // its key, in the same order. A key is computed again only if an end's star changed since
@@ -235,27 +219,6 @@ void Simplifier::rank_candidates(size_t& share) {
         born_.clear();
     }
     scratch_.clear();
-    // Edge collapse's keys (placing the new point: most of its work) may be computed on several
-    // threads, after the sweep; a key reads the surface and writes only its own member, so the
-    // keys are the same whatever the thread count. Vertex removal's are at hand.
-    const bool threaded = collapse && options_.threads > 1;
-    auto rekey = [&](Member& m, uint32_t id) {
-        m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
-        if (collapse) raised_[id] = 0;
-    };
-    auto add_candidate = [&](const Member& m, size_t i) {
-        if (!std::isinf(m.key.weight))
-            scratch_.push_back(detail::Candidate::make(m.key, uint32_t(i)));
-    };
-    // On one thread a stale key is computed kKeysAhead candidates after the sweep lists it, its
-    // memory fetched meanwhile (prefetch_key), while what the sweep read for it is still at hand;
-    // the candidates still join in pool order.
-    uint32_t ahead[kKeysAhead];
-    size_t queued = 0, keyed = 0;
-    auto key_and_add = [&](uint32_t i) {
-        if (pool_[i].keyed == kStale) rekey(pool_[i], pool_[i].id);
-        add_candidate(pool_[i], i);
-    };
     size_t kept = 0;
     for (const Member& member : pool_) {
         const uint32_t id = member.id;
@@ -272,43 +235,47 @@ void Simplifier::rank_candidates(size_t& share) {
         if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
         const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
         if (m.keyed == kNever || changed > m.keyed) m.keyed = kStale;
-        if (threaded) {
-            candidates_.push_back(uint32_t(kept - 1));
-            continue;
-        }
-        if (collapse && m.keyed == kStale) prefetch_key(a, b);
-        ahead[queued++ % kKeysAhead] = uint32_t(kept - 1);
-        if (queued - keyed == kKeysAhead) key_and_add(ahead[keyed++ % kKeysAhead]);
+        candidates_.push_back(uint32_t(kept - 1));
     }
-    while (keyed < queued) key_and_add(ahead[keyed++ % kKeysAhead]);
     pool_.resize(kept);
-    if (threaded) {
-        parallel_for(candidates_.size(), options_.threads, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i)
-                if (Member& m = pool_[candidates_[i]]; m.keyed == kStale) rekey(m, m.id);
-        });
-        for (const uint32_t i : candidates_) add_candidate(pool_[i], i);
-        candidates_.clear();
-    }
+    // A key reads the surface and writes only its own member: the same whatever the threads.
+    const size_t keyed = in_blocks(candidates_.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i)
+            if (Member& m = pool_[candidates_[i]]; m.keyed == kStale) {
+                m.key = collapse ? collapse_key(m.id) : removal_key(m.id), m.keyed = pass_;
+                if (collapse) raised_[m.id] = 0;
+            }
+    });
+    if (keyed < candidates_.size()) return candidates_.clear(), false;
+    for (const uint32_t i : candidates_)
+        if (!std::isinf(pool_[i].key.weight))
+            scratch_.push_back(detail::Candidate::make(pool_[i].key, i));
+    candidates_.clear();
     share = scratch_.empty()
                 ? 0
                 : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(scratch_.size()))));
     detail::lightest_sorted(scratch_, share, order_);
+    return true;
 }
 
-void Simplifier::prefetch_collapses_after(size_t i, size_t share) const {
-    if (i + 16 < share) __builtin_prefetch(&pool_[order_[i + 16].id]);
-    if (i + 8 < share) {
-        const uint32_t h = pool_[order_[i + 8].id].id;
-        __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
+size_t Simplifier::neighbourhood(uint32_t id, uint32_t* out) const {
+    size_t n = 0;
+    auto add_star = [&](uint32_t v) {
+        out[n++] = v;
+        mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
+            if (n < kMaxNeighbourhood) out[n++] = u;
+        });
+    };
+    if (options_.strategy == Strategy::EdgeCollapse) {
+        const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
+        if (size_t(mesh_.valence[a]) + mesh_.valence[b] + 2 > kMaxNeighbourhood) return 0;
+        add_star(a);
+        add_star(b);
+    } else {
+        if (size_t(mesh_.valence[id]) + 1 > kMaxNeighbourhood) return 0;
+        add_star(id);
     }
-    if (i + 4 >= share) return;
-    const uint32_t h = pool_[order_[i + 4].id].id, a = mesh_.origin[h];
-    if (a == kNone) return;
-    for (const uint32_t v : {a, mesh_.dest(h)}) {
-        __builtin_prefetch(&busy_[v]), __builtin_prefetch(&mesh_.out[v]);
-        __builtin_prefetch(mesh_.position_of(v));
-    }
+    return n;
 }
 
 bool Simplifier::waits(uint32_t id, float key, float planned) {
@@ -317,58 +284,221 @@ bool Simplifier::waits(uint32_t id, float key, float planned) {
     return false;
 }
 
-bool Simplifier::report_progress(size_t live, size_t target) {
-    if (!options_.progress || operations_ % 1024 != 0) return true;
-    const double total = double(record_.triangles_in_ - std::min(target, record_.triangles_in_));
-    const double done = double(record_.triangles_in_ - live);
-    return options_.progress(total > 0 ? std::min(1.0, done / total) : 1.0);
+bool Simplifier::checkpoint() {
+    if (cancelled_) return false;
+    if (!options_.progress) return true;
+    const size_t in = record_.triangles_in_, live = mesh_.live_triangles;
+    const double total = double(in - std::min(target_, in));
+    const double done = double(in - live);
+    cancelled_ = !options_.progress(total > 0 ? std::min(1.0, done / total) : 1.0);
+    return !cancelled_;
+}
+
+bool Simplifier::run_pass(size_t target, StopReason& stop) {
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    size_t share = 0;
+    if (!rank_candidates(share)) return stop = StopReason::Cancelled, true;
+    if (share == 0) {
+        // Edge collapse's last resort: a triangle need only face along its corners' reference
+        // normals together, and every refused edge is tried again.
+        if (!collapse || relaxed_facing_) return stop = StopReason::NothingRemovable, true;
+        relaxed_facing_ = true;
+        std::fill(fail_.begin(), fail_.end(), 0);
+        std::fill(fail_at_.begin(), fail_at_.end(), kNone);
+        return false;
+    }
+    if (order_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;
+    share_limit_ = order_[share - 1].weight();
+    ++pass_;
+
+    // Select: a contender is taken when it is the lightest (by rank in order_) of every
+    // contender whose neighbourhood meets its own, and its check passes; rounds repeat this among
+    // the contenders that no taken operation touches. Each step depends on the contenders alone,
+    // never on the order in which threads reach them.
+    contenders_.clear();
+    for (uint32_t i = 0; i < share; ++i)
+        if (order_[i].weight() <= options_.max_weight) contenders_.push_back(i);
+    taken_.clear();
+    for (int round = 0; round < kSelectionRounds && !contenders_.empty(); ++round) {
+        const size_t k = contenders_.size();
+        near_begin_.resize(k + 1);
+        near_begin_[0] = 0;
+        for (size_t c = 0; c < k; ++c) {
+            const uint32_t id = pool_[order_[contenders_[c]].id].id;
+            const size_t most = collapse ? size_t(mesh_.valence[mesh_.origin[id]]) +
+                                               mesh_.valence[mesh_.dest(id)] + 2
+                                         : size_t(mesh_.valence[id]) + 1;
+            near_begin_[c + 1] = near_begin_[c] + uint32_t(std::min(most, kMaxNeighbourhood));
+        }
+        near_.resize(near_begin_[k]);
+        won_.assign(k, 0);
+        checked_.assign(k, Check::Refused);
+        if (collapse) plans_.resize(k);
+        else slots_.resize(k), removed_.resize(k);
+        // Claim: every vertex keeps the lightest contender whose neighbourhood holds it.
+        size_t ok = in_blocks(k, [&](size_t begin, size_t end) {
+            for (size_t c = begin; c < end; ++c) {
+                uint32_t* near = &near_[near_begin_[c]];
+                const uint32_t rank = contenders_[c];
+                const size_t n = neighbourhood(pool_[order_[rank].id].id, near);
+                near_begin_[c + 1] - near_begin_[c] > n ? (void)(near[n] = kFree) : (void)0;
+                bool free = n > 0;
+                for (size_t j = 0; j < n && free; ++j) free = busy_[near[j]] != pass_;
+                if (!free) {
+                    near[0] = kFree; // out of this pass
+                    continue;
+                }
+                for (size_t j = 0; j < n; ++j) {
+                    std::atomic_ref<uint32_t> claim(claim_[near[j]]);
+                    uint32_t now = claim.load(std::memory_order_relaxed);
+                    while (rank < now && !claim.compare_exchange_weak(now, rank,
+                                                                      std::memory_order_relaxed)) {
+                    }
+                }
+            }
+        });
+        if (ok < k) return stop = StopReason::Cancelled, true;
+        // Won: the contender holds every vertex of its neighbourhood. Then checked, on the
+        // surface as the pass found it (no taken operation touches what it reads).
+        auto near_end = [&](size_t c) {
+            const uint32_t* b = &near_[near_begin_[c]];
+            const uint32_t* e = &near_[near_begin_[c + 1]];
+            return std::find(b, e, kFree);
+        };
+        ok = in_blocks(k, [&](size_t begin, size_t end) {
+            for (size_t c = begin; c < end; ++c) {
+                const uint32_t rank = contenders_[c];
+                const uint32_t* b = &near_[near_begin_[c]];
+                const uint32_t* e = near_end(c);
+                if (b == e) continue;
+                bool wins = true;
+                for (const uint32_t* v = b; v != e && wins; ++v)
+                    wins = std::atomic_ref<uint32_t>(claim_[*v]).load(std::memory_order_relaxed) ==
+                           rank;
+                won_[c] = wins;
+            }
+        });
+        if (ok < k) return stop = StopReason::Cancelled, true;
+        parallel_.for_each(k, [&](size_t c) {
+            for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
+                std::atomic_ref<uint32_t>(claim_[*v]).store(kFree, std::memory_order_relaxed);
+        });
+        ok = in_blocks(k, [&](size_t begin, size_t end) {
+            for (size_t c = begin; c < end; ++c) {
+                if (!won_[c]) continue;
+                Member& m = pool_[order_[contenders_[c]].id];
+                checked_[c] = collapse ? check_collapse(m, plans_[c])
+                                       : check_removal(m.id, slots_[c], removed_[c]);
+                if (checked_[c] == Check::Taken)
+                    for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
+                        busy_[*v] = pass_;
+            }
+        });
+        if (ok < k) return stop = StopReason::Cancelled, true;
+        // The taken ones; the others that did not win (and are not out) contend again.
+        size_t next = 0;
+        bool any = false;
+        for (size_t c = 0; c < k; ++c) {
+            if (won_[c]) {
+                if (checked_[c] == Check::Taken) {
+                    any = true;
+                    if (collapse) { // plans_ is overwritten by the next round
+                        taken_.push_back({contenders_[c], uint32_t(taken_plans_.size())});
+                        taken_plans_.push_back(plans_[c]);
+                    } else {
+                        taken_.push_back({contenders_[c], uint32_t(taken_slots_.size())});
+                        taken_slots_.push_back(slots_[c]);
+                        taken_removed_.push_back(removed_[c]);
+                    }
+                }
+            } else if (near_[near_begin_[c]] != kFree) {
+                contenders_[next++] = contenders_[c];
+            }
+        }
+        contenders_.resize(next);
+        if (!any) break;
+    }
+
+    // Apply in key order, as far as the target: a direct run to any target stops at the first
+    // operation that reaches it, so every run is a prefix of the one record.
+    std::sort(taken_.begin(), taken_.end());
+    size_t live = mesh_.live_triangles, count = taken_.size();
+    write_at_.clear();
+    size_t writes = record_.writes_.size();
+    for (size_t j = 0; j < taken_.size(); ++j) {
+        const uint32_t t = taken_[j].second;
+        size_t removed;
+        if (collapse) {
+            removed = mesh_.twin[taken_plans_[t].halfedge] != kNone ? 2 : 1;
+        } else {
+            removed = taken_removed_[t];
+            write_at_.push_back(uint32_t(writes));
+            writes += 4 * size_t(taken_slots_[t]);
+            record_.write_begin_.push_back(uint32_t(writes));
+        }
+        live -= removed;
+        record_.triangles_after_.push_back(uint32_t(live));
+        if (live <= target) {
+            count = j + 1;
+            break;
+        }
+    }
+    if (collapse) {
+        record_.collapse_.resize(2 * (operations_ + count));
+        made_.resize((operations_ + count) * (3 + mesh_.stride));
+    } else {
+        record_.writes_.resize(writes);
+    }
+    news_.resize(count);
+    for (size_t j = 0; j < count && collapse; ++j)
+        news_[j] = mesh_.origin[taken_plans_[taken_[j].second].halfedge];
+    const size_t applied = in_blocks(count, [&](size_t begin, size_t end) {
+        for (size_t j = begin; j < end; ++j) {
+            const uint32_t t = taken_[j].second;
+            if (collapse) {
+                apply_collapse(taken_plans_[t], operations_ + j);
+            } else {
+                RemovalPlan plan;
+                plan_removal(pool_[order_[taken_[j].first].id].id, plan);
+                apply_removal(plan, operations_ + j, write_at_[j]);
+            }
+        }
+    });
+    // Cancelled in the middle: the record keeps the operations applied so far.
+    const size_t recorded = record_.triangles_after_.size() - count;
+    if (applied < count) {
+        record_.triangles_after_.resize(recorded + applied);
+        if (collapse) {
+            record_.collapse_.resize(2 * (operations_ + applied));
+            made_.resize((operations_ + applied) * (3 + mesh_.stride));
+        } else {
+            record_.write_begin_.resize(operations_ + applied + 1);
+            record_.writes_.resize(record_.write_begin_.back());
+        }
+        live = applied > 0 ? record_.triangles_after_.back() : mesh_.live_triangles;
+    }
+    operations_ += applied;
+    mesh_.live_triangles = live;
+    for (size_t j = 0; j < applied && collapse; ++j) list_edges_of(news_[j]);
+    taken_plans_.clear(), taken_slots_.clear(), taken_removed_.clear();
+    if (applied < count) return stop = StopReason::Cancelled, true;
+    if (live <= target) return stop = StopReason::TargetReached, true;
+    if (!checkpoint()) return stop = StopReason::Cancelled, true;
+    return false;
 }
 
 ProgressiveRecord Simplifier::run() {
     const size_t target = target_triangles(options_, record_.triangles_in_);
-    // Pass after pass: rank every candidate by its key on the current surface, then go through
-    // the lightest share of them in that order. A candidate next to an operation of this pass
-    // waits for the next pass, where it is ranked again with its new key. Nothing here depends on
-    // the target, so a run to any target performs a prefix of the same operations.
-    const auto run_passes = [&]() {
-        for (;;) {
-            if (mesh_.live_triangles <= target) return StopReason::TargetReached;
-            size_t share = 0;
-            rank_candidates(share);
-            if (share == 0) {
-                // Edge collapse's last resort: a triangle need only face along its corners'
-                // reference normals together, and every refused edge is tried again.
-                if (options_.strategy != Strategy::EdgeCollapse || relaxed_facing_)
-                    return StopReason::NothingRemovable;
-                relaxed_facing_ = true;
-                std::fill(fail_.begin(), fail_.end(), 0);
-                std::fill(fail_at_.begin(), fail_at_.end(), kNone);
-                continue;
-            }
-            if (order_.front().weight() > options_.max_weight) return StopReason::WeightBound;
-            share_limit_ = order_[share - 1].weight();
-            if (options_.strategy == Strategy::EdgeCollapse)
-                detail::runs_in_id_order(order_, share, kPassRuns, scratch_);
-            ++pass_;
-            for (size_t i = 0; i < share; ++i) {
-                const detail::Candidate c = order_[i];
-                if (options_.strategy == Strategy::EdgeCollapse) // no gain measured for removal
-                    prefetch_collapses_after(i, share);
-                if (c.weight() > options_.max_weight) continue; // heavier ones may follow
-                const size_t before = operations_;
-                if (options_.strategy == Strategy::EdgeCollapse)
-                    step_collapse(pool_[c.id]);
-                else
-                    step_removal(pool_[c.id].id);
-                if (operations_ == before) continue;
-                record_.triangles_after_.push_back(uint32_t(mesh_.live_triangles));
-                if (!report_progress(mesh_.live_triangles, target)) return StopReason::Cancelled;
-                if (mesh_.live_triangles <= target) return StopReason::TargetReached;
-            }
-        }
-    };
-    record_.stop_ = run_passes();
-    if (options_.progress && record_.stop_ != StopReason::Cancelled) options_.progress(1.0);
+    target_ = target;
+    // Pass after pass until the target. Nothing in a pass depends on the target but where it
+    // stops applying, so a run to any target performs a prefix of the same operations.
+    StopReason stop = StopReason::TargetReached;
+    if (mesh_.live_triangles > target && checkpoint())
+        while (!run_pass(target, stop)) continue;
+    else if (cancelled_)
+        stop = StopReason::Cancelled;
+    record_.stop_ = stop;
+    if (options_.progress && !cancelled_) options_.progress(1.0);
 
     // Hand the vertices (the input's, then those the collapses made) to the record.
     const size_t made = 3 + mesh_.stride;

@@ -1,12 +1,14 @@
 // One simplification run: the weights, the passes, the two strategies and the record they write.
 // Pipeline: build the half-edge mesh -> classify vertices -> weigh -> per pass: rank the
-// candidates, take the lightest part of them in order, check and apply each one whose
-// neighbourhood no earlier operation of the pass changed, update its neighbourhood -> repeat
-// until the target.
+// candidates, keep the lightest share, select the operations that are the lightest of every
+// operation whose neighbourhood they touch (a deterministic independent set), check them on the
+// untouched surface, apply them, record them in key order -> repeat until the target. Selection,
+// checks and application run on Options::threads threads; the output does not depend on it.
 #pragma once
 
 #include "ddsimp/ddsimp.h"
 #include "error_quadric.h"
+#include "parallel.h"
 #include "pass_order.h"
 #include "weights.h"
 #include "working_mesh.h"
@@ -72,11 +74,14 @@ private:
         Cover cover;                        // where the new triangles pass v
     };
 
-    // The share of a pass's candidates, lightest first, that the pass goes through.
+    // The share of a pass's candidates, lightest first, that the pass selects from.
     static constexpr double kPassShare = 0.25;
-    // Edge collapse goes through that share in this many runs of equal count, lightest run
-    // first, each in id order (see runs_in_id_order); vertex removal in key order.
-    static constexpr size_t kPassRuns = 8;
+    // Rounds of selection per pass: each takes, among the share's candidates that no operation
+    // taken so far touches, those that are the lightest of every candidate whose neighbourhood
+    // meets theirs.
+    static constexpr int kSelectionRounds = 3;
+    // Items of a parallel stage between two progress calls (see checkpoint).
+    static constexpr size_t kBlock = 8192;
 
     // simplifier.cpp: weights, passes, the main loop.
     // Re-classifies v and recomputes its weight (and, for vertex removal, its key's tie-break).
@@ -90,16 +95,27 @@ private:
     // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
     // ends and line flags (all but the apexes); vertex removal passes count.
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
-    // The next pass: the number of candidates it goes through into `share`, and at least that
-    // many of the lightest candidates, sorted lightest first, into order_.
-    void rank_candidates(size_t& share);
-    // How many candidates after listing one rank_candidates computes its key (see there).
-    static constexpr size_t kKeysAhead = 16;
-    // Fetches what the pass's collapses after step i read first, in stages (a prefetch changes no
-    // result): the pool member 16 steps ahead, its half-edge 8 ahead, its ends' records 4 ahead.
-    // The steps go through the surface in id order, but sparsely.
-    void prefetch_collapses_after(size_t i, size_t share) const;
-    bool report_progress(size_t live, size_t target);
+    // The next pass: the number of candidates it selects from into `share`, and at least that
+    // many of the lightest candidates, sorted lightest first, into order_. False: cancelled.
+    bool rank_candidates(size_t& share);
+    // One pass (see the pipeline above); returns true with `stop` set when the run is over.
+    bool run_pass(size_t target, StopReason& stop);
+    // The vertices a candidate's operation reads or changes: the vertices it moves or removes
+    // and their neighbours, into out[0..kMaxNeighbourhood); returns their number (0: too many).
+    static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
+    size_t neighbourhood(uint32_t id, uint32_t* out) const;
+    // Calls Options::progress (on the calling thread); false once it asked to stop.
+    bool checkpoint();
+    // f(begin, end) over [0, n) on the threads, block by block of kBlock items, with a progress
+    // call after each but the last; returns how many items it went through (n unless cancelled).
+    template <class F> size_t in_blocks(size_t n, F&& f) {
+        for (size_t begin = 0; begin < n; begin += kBlock) {
+            const size_t end = std::min(n, begin + kBlock);
+            parallel_.for_range(end - begin, [&](size_t b, size_t e) { f(begin + b, begin + e); });
+            if (end < n && !checkpoint()) return end;
+        }
+        return n;
+    }
     // The weight of the quadrics' geometric error: alpha, but at least kMinGeometryWeight.
     double geometry_weight() const;
     // Terms::ErrorQuadrics: the price of a squared distance (raw units) by which the surface
@@ -128,9 +144,15 @@ private:
                               const detail::Vec3& axis, double length, const detail::Vec3& d) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
-    void apply_collapse(const CollapsePlan& plan);
+    // Applies a checked collapse as the record's operation `index` (see run_pass: the
+    // operations applied together touch disjoint neighbourhoods).
+    void apply_collapse(const CollapsePlan& plan, size_t index);
+    // What checking a selected candidate on the untouched surface found.
+    enum class Check : uint8_t { Refused, Waits, Taken };
     struct Member;
-    void step_collapse(Member& candidate);
+    Check check_collapse(Member& candidate, CollapsePlan& plan);
+    // The new edges of a collapse's vertex n join the pool.
+    void list_edges_of(uint32_t n);
 
     // vertex_removal.cpp
     bool removable(uint32_t v) const;
@@ -153,10 +175,13 @@ private:
     // without one (plan_removal).
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
                                const double (*xy)[2], Cover& cover) const;
-    void apply_removal(const RemovalPlan& plan);
-    void step_removal(uint32_t v);
+    // Applies a planned removal as the record's operation `index`, its writes from `write_at`.
+    void apply_removal(const RemovalPlan& plan, size_t index, size_t write_at);
+    // `slots`: the star's triangle slots (the record's writes), `removed`: triangles it removes.
+    Check check_removal(uint32_t v, uint32_t& slots, uint32_t& removed);
 
     Options options_;
+    detail::Parallel parallel_;
     detail::WorkingMesh mesh_;
     detail::GradientTerms gradient_;
     // Per vertex: the paper's weight (Terms::AngleDeficitGradient); with the error quadrics,
@@ -190,17 +215,36 @@ private:
     std::vector<uint8_t> listed_;
     // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
     std::vector<detail::Candidate> order_, scratch_;
-    // busy_[v] == pass_: an operation of this pass changed v's star, so the pass leaves v alone
-    // (and every weight an operation reads is the one of the current surface).
+    // busy_[v] == pass_: v is in the neighbourhood of an operation this pass takes, so the pass
+    // takes no other operation that reads or changes it.
     std::vector<uint32_t> busy_;
+    // Per vertex, during a selection round: the lightest contender (its rank in order_) whose
+    // neighbourhood holds the vertex; kFree when none.
+    static constexpr uint32_t kFree = 0xffffffffu;
+    std::vector<uint32_t> claim_;
+    // A pass's contenders (ranks in order_), their neighbourhoods (near_ from near_begin_[k]),
+    // whether each won its round, what its check found and its plan.
+    std::vector<uint32_t> contenders_, near_, near_begin_;
+    std::vector<uint8_t> won_;
+    std::vector<Check> checked_;
+    std::vector<CollapsePlan> plans_;
+    std::vector<uint32_t> slots_, removed_;
+    // The operations a pass takes: (rank in order_, contender index), sorted by rank.
+    std::vector<std::pair<uint32_t, uint32_t>> taken_;
+    // What the taken operations need when applied: edge collapse's plans and new vertices,
+    // vertex removal's slot counts, removed triangles and where its writes go in the record.
+    std::vector<CollapsePlan> taken_plans_;
+    std::vector<uint32_t> news_, taken_slots_, taken_removed_, write_at_;
+    size_t target_ = 0;     // of the run (for the progress fraction only)
+    bool cancelled_ = false; // Options::progress asked to stop
     // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
     // changed; a pool member's key is computed again when an end's rekey_ is newer than it.
     std::vector<uint32_t> rekey_;
     uint32_t pass_ = 0;
-    // Refusals are remembered: fail_[id] is 1 + the operation count when the plan refused the
-    // edge (per half-edge) or vertex; epoch_[v] is 1 + the operation count when v's star last
-    // changed. A refusal stands while no vertex the checks read has changed since: the ends and
-    // apexes of an edge, the vertex itself for a removal.
+    // Refusals are remembered: fail_[id] is the pass in which the plan refused the edge (per
+    // half-edge) or vertex; epoch_[v] is the pass in which v's star last changed. A refusal
+    // stands while no vertex the checks read has changed since (in that pass or later): the ends
+    // and apexes of an edge, the vertex itself for a removal.
     std::vector<uint32_t> fail_, epoch_;
     // Vertex removal: the length of each vertex's shortest edge (its key's tie-break).
     std::vector<float> shortest_;
@@ -226,9 +270,6 @@ private:
     // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
     // where a collapse moves a vertex rather than recomputed for every key.
     std::vector<float> length_;
-    // Edge collapse's scratch for the link condition: seen_[v] == seen_now_ marks a's ring.
-    mutable std::vector<uint32_t> seen_;
-    mutable uint32_t seen_now_ = 0;
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;
     // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:
@@ -236,9 +277,6 @@ private:
     // the point collapse i made), rank_ the internal id of each input vertex.
     std::vector<uint32_t> id_, rank_;
     std::vector<float> made_; // per collapse: the new point and its data (stride values)
-    // Vertex removal's scratch: a vertex's position in the ring being planned, or kNotInRing.
-    static constexpr uint8_t kNotInRing = 0xff;
-    mutable std::vector<uint8_t> ring_at_;
     ProgressiveRecord record_;
 };
 

@@ -35,7 +35,7 @@ double shape(const double* p, const double* q, const double* r) {
 bool Simplifier::removable(uint32_t v) const {
     const VertexKind k = mesh_.kind[v];
     if (k != VertexKind::Free && k != VertexKind::Line) return false;
-    return fail_[v] == 0 || epoch_[v] > fail_[v];
+    return fail_[v] == 0 || epoch_[v] >= fail_[v];
 }
 
 // The key: its weight, ties broken by its shortest edge (kept up to date by refresh_vertex).
@@ -175,16 +175,7 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     // complex vertices an edge is assumed, so no new edge is made there.
     uint64_t adjacent[kMaxValence] = {};
     uint64_t complex = 0;
-    // Each ring vertex's position in the ring (scratch, cleared again below), so that finding a
-    // neighbour in the ring is one look-up; a ring holding a vertex twice takes the long way.
-    bool repeated = false, listed = true;
-    for (size_t r = 0; r < n; ++r) {
-        uint8_t& at = ring_at_[plan.ring[r]];
-        if (at != kNotInRing)
-            repeated = true;
-        else
-            at = uint8_t(r);
-    }
+    bool listed = true;
     uint32_t walked[kMaxValence], neighbours[kMaxValence][kMaxValence];
     size_t walks = 0, counts[kMaxValence];
     for (size_t i = 0; i < n; ++i)
@@ -199,15 +190,9 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         const uint32_t* neighbour = neighbours[w++];
         listed = m != 0;
         for (size_t j = 0; j < m; ++j)
-            if (!repeated) {
-                const uint8_t r = ring_at_[neighbour[j]];
-                if (r != kNotInRing) adjacent[i] |= uint64_t(1) << r;
-            } else {
-                for (size_t r = 0; r < n; ++r)
-                    if (plan.ring[r] == neighbour[j]) adjacent[i] |= uint64_t(1) << r;
-            }
+            for (size_t r = 0; r < n; ++r)
+                if (plan.ring[r] == neighbour[j]) adjacent[i] |= uint64_t(1) << r;
     }
-    for (size_t r = 0; r < n; ++r) ring_at_[plan.ring[r]] = kNotInRing;
     if (!listed) return false;
     for (size_t i = 0; i < n; ++i)
         if (complex >> i & 1) {
@@ -426,7 +411,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
     return plan.new_count == n - 2;
 }
 
-void Simplifier::apply_removal(const RemovalPlan& plan) {
+void Simplifier::apply_removal(const RemovalPlan& plan, size_t index, size_t write_at) {
     WorkingMesh& m = mesh_;
     const size_t n = plan.ring_size, fan = plan.boundary ? n - 1 : n;
     const bool consecutive_feature =
@@ -471,7 +456,6 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
         const uint32_t o = plan.outer_twin[0];
         m.twin[o] = kNone, m.line[o] = 1;
     }
-    m.live_triangles -= fan - plan.new_count;
     m.kind[plan.vertex] = VertexKind::Dead;
     m.out[plan.vertex] = kNone;
 
@@ -489,16 +473,16 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     }
 
     // The record: {slot, a, b, c} per rewritten slot, {slot, kNone, kNone, kNone} per retired.
+    uint32_t* write = &record_.writes_[write_at];
     for (size_t t = 0; t < fan; ++t) {
         const uint32_t slot = plan.star[t];
-        record_.writes_.push_back(slot);
+        *write++ = slot;
         for (int c = 0; c < 3; ++c) {
             const uint32_t v = m.origin[3 * slot + c];
-            record_.writes_.push_back(v == kNone ? kNone : id_[v]);
+            *write++ = v == kNone ? kNone : id_[v];
         }
     }
-    record_.write_begin_.push_back(uint32_t(record_.writes_.size()));
-    ++operations_;
+    (void)index; // the record's write_begin_ already holds where operation `index` ends
     // The input surface v stood for is now spanned by the new triangle that passes it: its error
     // quadric goes to that triangle's corners by v's barycentric weights there, as a collapse's
     // goes to the vertex that replaces it. (Shared equally among the ring, as before algorithm
@@ -509,12 +493,11 @@ void Simplifier::apply_removal(const RemovalPlan& plan) {
     refresh_around(plan.ring, n, n);
 }
 
-void Simplifier::step_removal(uint32_t v) {
-    if (busy_[v] == pass_ || !removable(v)) return; // the next pass ranks it again
+Simplifier::Check Simplifier::check_removal(uint32_t v, uint32_t& slots, uint32_t& removed) {
     RemovalPlan plan;
     if (!plan_removal(v, plan)) {
-        fail_[v] = uint32_t(operations_ + 1); // no candidate until its star changes
-        return;
+        fail_[v] = pass_; // no candidate until its star changes
+        return Check::Refused;
     }
     // Its key was an estimate (see weight_): a re-triangulation that makes it wait (see waits,
     // as a collapse's retraction does) becomes its key.
@@ -522,9 +505,11 @@ void Simplifier::step_removal(uint32_t v) {
     if (quadric_terms_ && waits(v, weight_[v], error)) {
         weight_[v] = error;
         rekey_[v] = pass_;
-        return;
+        return Check::Waits;
     }
-    apply_removal(plan);
+    slots = uint32_t(plan.boundary ? plan.ring_size - 1 : plan.ring_size);
+    removed = slots - uint32_t(plan.new_count);
+    return Check::Taken;
 }
 
 } // namespace ddsimp

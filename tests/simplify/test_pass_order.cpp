@@ -1,5 +1,5 @@
-// pass_order.h (internal): runs_in_id_order cuts the lightest share into runs and puts each run in
-// id order by counting passes; the result must be what a comparison sort of each run gives.
+// pass_order.h (internal): a pass's candidates sorted by key, then id, by counting passes; the
+// lightest share must be what a comparison sort of all candidates gives.
 #include "pass_order.h"
 
 #include <gtest/gtest.h>
@@ -12,38 +12,46 @@
 namespace ddsimp::detail {
 namespace {
 
-// `n` candidates with distinct ids below `id_limit`, in a shuffled (key) order.
-std::vector<Candidate> shuffled_candidates(size_t n, uint32_t id_limit, uint32_t seed) {
+// `n` candidates in id order with keys drawn from `distinct` values (many ties when few).
+std::vector<Candidate> random_candidates(size_t n, uint32_t distinct, uint32_t seed) {
     std::mt19937 random(seed);
-    std::vector<uint32_t> ids(id_limit);
-    for (uint32_t i = 0; i < id_limit; ++i) ids[i] = i;
-    std::shuffle(ids.begin(), ids.end(), random);
+    std::uniform_int_distribution<uint32_t> pick(0, distinct - 1);
     std::vector<Candidate> c(n);
-    for (size_t i = 0; i < n; ++i) c[i] = {uint64_t(i), ids[i]};
+    for (size_t i = 0; i < n; ++i) {
+        const float weight = float(pick(random)) * 0.37f, tie = float(pick(random) % 7);
+        c[i] = Candidate::make({weight, tie}, uint32_t(i));
+    }
     return c;
 }
 
-TEST(PassOrder, RunsInIdOrderEqualsSortingEachRun) {
-    // Short runs (comparison sort), long runs (counting passes), ids needing one, two and three
-    // 11-bit digits, and a share that leaves a tail untouched.
-    for (size_t n : {100u, 5000u, 100000u})
-        for (uint32_t id_limit : {uint32_t(2000), uint32_t(1) << 20, uint32_t(5000000)}) {
-            if (id_limit < n) continue;
-            const std::vector<Candidate> input = shuffled_candidates(n, id_limit, uint32_t(n));
-            const size_t share = n - n / 7, runs = 8;
-            std::vector<Candidate> want = input, got = input, scratch;
-            for (size_t r = 0; r < runs; ++r)
-                std::sort(want.begin() + std::ptrdiff_t(share * r / runs),
-                          want.begin() + std::ptrdiff_t(share * (r + 1) / runs),
-                          [](const Candidate& a, const Candidate& b) { return a.id < b.id; });
-            runs_in_id_order(got, share, runs, scratch);
-            ASSERT_EQ(got.size(), want.size());
-            for (size_t i = 0; i < n; ++i) {
-                ASSERT_EQ(got[i].id, want[i].id)
-                    << "n " << n << ", ids < " << id_limit << ", at " << i;
-                ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
+bool lighter(const Candidate& a, const Candidate& b) {
+    return a.order != b.order ? a.order < b.order : a.id < b.id;
+}
+
+TEST(PassOrder, LightestSortedEqualsAComparisonSort) {
+    // Few candidates (comparison sort), many (counting passes), few and many distinct keys, and
+    // shares from one candidate to all of them.
+    for (size_t n : {100u, 5000u, 200000u})
+        for (uint32_t distinct : {3u, 1000u, 1u << 30})
+            for (double share : {0.0, 0.25, 1.0}) {
+                const std::vector<Candidate> input = random_candidates(n, distinct, uint32_t(n));
+                std::vector<Candidate> want = input;
+                std::sort(want.begin(), want.end(), lighter);
+                const size_t count = std::max<size_t>(1, size_t(share * double(n)));
+                std::vector<Candidate> items = input, got;
+                lightest_sorted(items, count, got);
+                ASSERT_GE(got.size(), count);
+                for (size_t i = 0; i < count; ++i) {
+                    ASSERT_EQ(got[i].id, want[i].id) << "n " << n << ", at " << i;
+                    ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
+                }
             }
-        }
+}
+
+TEST(PassOrder, NegativeZeroAndZeroAreEqualKeys) {
+    EXPECT_EQ(Candidate::make({-0.0f, 1}, 0).order, Candidate::make({0.0f, 1}, 0).order);
+    EXPECT_LT(Candidate::make({-1.0f, 0}, 0).order, Candidate::make({0.0f, 0}, 0).order);
+    EXPECT_EQ(Candidate::make({2.5f, 0}, 0).weight(), 2.5f);
 }
 
 } // namespace

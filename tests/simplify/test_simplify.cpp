@@ -3,6 +3,8 @@
 // Behaviour specific to one strategy is in test_edge_collapse.cpp and test_vertex_removal.cpp.
 #include "test_surfaces.h"
 
+#include <thread>
+
 namespace ddsimp::test {
 namespace {
 
@@ -259,6 +261,22 @@ TEST_P(Simplify, ProgressIsReportedInOrder) {
     }
 }
 
+// The service relies on this: progress is called on the calling thread only, whatever the threads.
+TEST_P(Simplify, ProgressIsCalledOnTheCallingThread) {
+    const std::thread::id caller = std::this_thread::get_id();
+    size_t calls = 0, elsewhere = 0;
+    Options o = options();
+    o.threads = 4;
+    o.progress = [&](double) {
+        ++calls;
+        elsewhere += std::this_thread::get_id() != caller;
+        return true;
+    };
+    simplify(with_test_fields(grid(120, 120)), o);
+    EXPECT_GT(calls, 3u);
+    EXPECT_EQ(elsewhere, 0u);
+}
+
 TEST_P(Simplify, CancelledAtTheFirstCall) {
     Surface in = with_test_fields(grid(60, 60));
     Options o = options();
@@ -337,7 +355,7 @@ TEST(CheckOptions, NamesTheOptionAndAcceptsDefaults) {
     o.feature_angle = 181;
     EXPECT_NE(message(o).find("feature angle"), std::string::npos) << message(o);
     o = Options{};
-    o.threads = 0;
+    o.threads = -1; // 0 is every hardware thread
     EXPECT_NE(message(o).find("threads"), std::string::npos) << message(o);
 }
 

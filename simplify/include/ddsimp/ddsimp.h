@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 13;
+inline constexpr int algorithm_version = 14;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -194,10 +194,13 @@ struct Options {
     // than 175 degrees apart, docs/algorithm.md) are kept the same way.
     std::vector<std::uint8_t> locked;
 
-    // Threads for the per-vertex set-up stages and for the keys each pass ranks (what edge
-    // collapse spends most on); the output does not depend on it.
-    int threads = 1;
-    // Called now and then with the fraction of the work done; return false to cancel.
+    // Threads for the engine's stages (keys, selection, checks, application); 0 means every
+    // hardware thread. The output bytes do not depend on it.
+    int threads = 0;
+    // Called with the fraction of the work done (non-decreasing, in [0, 1]) at least every few
+    // thousand items of a stage's work (every ~10 ms or less on one core), always on the thread
+    // that called simplify or ProgressiveRecord::build, never concurrently; return false to
+    // cancel: the run stops at its next call (StopReason::Cancelled) and does not call it again.
     std::function<bool(double)> progress;
 };
 
