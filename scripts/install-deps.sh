@@ -6,6 +6,7 @@ packages=(
     build-essential cmake ninja-build pkg-config
     libopenmesh-dev libvtk9-dev libcli11-dev nlohmann-json3-dev
     libmeshoptimizer-dev libgtest-dev libgmock-dev libbenchmark-dev jq
+    libtbb-dev  # oneTBB: the engine's parallel loops
     libboost-dev libprotobuf-dev protobuf-compiler libspdlog-dev libssl-dev
     openmpi-bin libopenmpi-dev
     yamllint shellcheck
