@@ -4,12 +4,14 @@
 #
 #   carotid-1m.vtp    isosurface scalars = ISO_1M of the volume resampled RESAMPLE_1M times per
 #                     axis: >= 1 M triangles, carrying `vectors` (the speed and memory runs)
+#   carotid-4m.vtp    the same at RESAMPLE_4M: >= 4 M triangles (the thread-scaling run on a
+#                     larger surface; only with --4m)
 #   carotid-100k.vtp  isosurface scalars = ISO_100K of the volume resampled RESAMPLE_100K times:
 #                     ~100 k triangles, carrying `vectors` (quick runs: bench/run.sh --quick).
 #                     Not the native resolution: its staircase isosurfaces are full of edges
 #                     sharper than usual feature angles (with 60 degrees ddsimp stops at 40%).
 #
-# Usage: bench/make-data.sh [--force]     (--force: remake files that exist)
+# Usage: bench/make-data.sh [--force] [--4m]     (--force: remake files that exist)
 # Environment:
 #   DDSIMP              the ddsimp program (default: build/release/tools/ddsimp, else on PATH)
 #   DDSIMP_SHARED_DATA  the shared data directory (default: ../shared/data beside the repository)
@@ -17,7 +19,8 @@ set -euo pipefail
 
 readonly ISO_1M=127 RESAMPLE_1M=3
 readonly ISO_100K=145 RESAMPLE_100K=2
-readonly MIN_TRIANGLES_1M=1000000
+readonly RESAMPLE_4M=6
+readonly MIN_TRIANGLES_1M=1000000 MIN_TRIANGLES_4M=4000000
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
@@ -25,14 +28,17 @@ data="$here/data"
 volume="${DDSIMP_SHARED_DATA:-$(cd "$root/.." && pwd)/shared/data}/volumes/carotid.vtk"
 
 force=false
-case "${1:-}" in
-"") ;;
---force) force=true ;;
-*)
-    echo "usage: bench/make-data.sh [--force]" >&2
-    exit 2
-    ;;
-esac
+large=false
+for arg in "$@"; do
+    case "$arg" in
+    --force) force=true ;;
+    --4m) large=true ;;
+    *)
+        echo "usage: bench/make-data.sh [--force] [--4m]" >&2
+        exit 2
+        ;;
+    esac
+done
 
 ddsimp="${DDSIMP:-}"
 if [[ -z "$ddsimp" ]]; then
@@ -88,3 +94,7 @@ make_surface "$data/carotid-1m.vtp" "$MIN_TRIANGLES_1M" \
     --field scalars --value "$ISO_1M" --resample "$RESAMPLE_1M" --carry vectors
 make_surface "$data/carotid-100k.vtp" 50000 \
     --field scalars --value "$ISO_100K" --resample "$RESAMPLE_100K" --carry vectors
+if $large; then
+    make_surface "$data/carotid-4m.vtp" "$MIN_TRIANGLES_4M" \
+        --field scalars --value "$ISO_1M" --resample "$RESAMPLE_4M" --carry vectors
+fi

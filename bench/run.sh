@@ -63,7 +63,7 @@ load_before=$(cut -d' ' -f1-3 /proc/loadavg)
 
 echo "run.sh: speed: $bench --surface=$surface" >&2
 "$bench" "--surface=$surface" "--benchmark_repetitions=$repetitions" \
-    --benchmark_report_aggregates_only=true \
+    --benchmark_report_aggregates_only=true --benchmark_enable_random_interleaving=true \
     "--benchmark_out=$results/speed.json" --benchmark_out_format=json >&2 || status=1
 
 for strategy in edge vertex; do
@@ -77,7 +77,7 @@ done
 # repetition; "" if absent).
 speed() {
     jq -r --arg name "$2" --arg field "$1" \
-        '[.benchmarks[] | select(.run_name | split("/")[0] == $name)
+        '[.benchmarks[] | select(.run_name == $name)
           | select(.error_occurred != true)] as $runs
          | ([$runs[] | select(.aggregate_name == "median")][0]
             // [$runs[] | select(.run_type == "iteration")][0]) | .[$field] // empty' \
@@ -86,7 +86,7 @@ speed() {
 # speed_error NAME: the error message NAME reported, if any.
 speed_error() {
     jq -r --arg name "$1" \
-        '[.benchmarks[] | select(.run_name | split("/")[0] == $name)
+        '[.benchmarks[] | select(.run_name == $name)
           | select(.error_occurred == true)][0].error_message // empty' \
         "$results/speed.json" 2>/dev/null || true
 }
@@ -114,7 +114,7 @@ triangles() {
     printf '%s → %s (target %s)' "$(fmt 0 "$in")" "$(fmt 0 "$out")" "$(fmt 0 "$target")"
 }
 
-base_cpu=$(speed cpu_time meshopt_simplify)
+base_real=$(speed real_time meshopt_simplify)
 row() { # row LABEL NAME STRATEGY
     local label="$1" name="$2" strategy="$3" cpu real ratio="—" mem="—" error
     error=$(speed_error "$name")
@@ -124,8 +124,8 @@ row() { # row LABEL NAME STRATEGY
     fi
     cpu=$(speed cpu_time "$name")
     real=$(speed real_time "$name")
-    if [[ -n "$cpu" && -n "$base_cpu" ]]; then
-        ratio=$(LC_ALL=C awk -v a="$cpu" -v b="$base_cpu" 'BEGIN { printf "%.2f", a / b }')
+    if [[ -n "$real" && -n "$base_real" ]]; then
+        ratio=$(LC_ALL=C awk -v a="$real" -v b="$base_real" 'BEGIN { printf "%.2f", a / b }')
     fi
     if [[ -n "$strategy" ]]; then
         local rss heap
@@ -152,20 +152,45 @@ cpu_model=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')
 {
     echo "## ddsimp benchmark, $(date -u '+%Y-%m-%d %H:%M UTC')"
     echo
-    echo "- surface: \`${surface#"$root/"}\`, reduced to 10% of its triangles, one thread," \
-        "α = 0.5, midpoint placement unless a row says otherwise"
+    echo "- surface: \`${surface#"$root/"}\`, reduced to 10% of its triangles," \
+        "α = 0.5, midpoint placement unless a row says otherwise; meshopt on one thread"
     echo "- commit $commit; $cpu_model, $(nproc) cores; load average before: $load_before"
-    echo "- time: median of $repetitions repetitions (Google Benchmark), process CPU seconds" \
-        "and wall seconds; ratio = ddsimp CPU / meshopt CPU"
+    echo "- time: median of $repetitions repetitions (Google Benchmark, interleaved), process CPU" \
+        "seconds and wall seconds; ratio = ddsimp wall / meshopt wall"
     echo "- memory: (peak RSS − RSS before the call) / input triangles, fresh process;" \
         "heap = peak live operator-new bytes / input triangles"
     echo
     echo "| simplifier | median CPU s | median wall s | ratio to meshopt | triangles in → reached | peak bytes / input triangle |"
     echo "|---|---|---|---|---|---|"
     row "meshoptimizer $meshopt_version \`meshopt_simplify\` (geometry only)" meshopt_simplify ""
-    row "ddsimp EdgeCollapse" ddsimp_EdgeCollapse edge
-    row "ddsimp EdgeCollapse, least-error placement (the default)" ddsimp_EdgeCollapse_LeastError ""
-    row "ddsimp VertexRemoval" ddsimp_VertexRemoval vertex
+    for t in 1 2; do
+        row "ddsimp EdgeCollapse, $t thread(s)" "ddsimp_EdgeCollapse/threads:$t" \
+            "$([[ $t == 1 ]] && echo edge)"
+        row "ddsimp EdgeCollapse, least-error placement (the default), $t thread(s)" \
+            "ddsimp_EdgeCollapse_LeastError/threads:$t" ""
+        row "ddsimp VertexRemoval, $t thread(s)" "ddsimp_VertexRemoval/threads:$t" \
+            "$([[ $t == 1 ]] && echo vertex)"
+    done
+    echo
+    # Scaling: wall time on t threads against one, and the serial fraction s that Amdahl's law
+    # T(t) = T(1) (s + (1 - s) / t) gives for the two-thread time (beyond the cores, t > nproc,
+    # the rows show the cost of the extra threads).
+    echo "| threads | EdgeCollapse wall s | speed-up | VertexRemoval wall s | speed-up |"
+    echo "|---|---|---|---|---|"
+    e1=$(speed real_time "ddsimp_EdgeCollapse_LeastError/threads:1")
+    v1=$(speed real_time "ddsimp_VertexRemoval/threads:1")
+    for t in 1 2 4 8 16; do
+        e=$(speed real_time "ddsimp_EdgeCollapse_LeastError/threads:$t")
+        v=$(speed real_time "ddsimp_VertexRemoval/threads:$t")
+        LC_ALL=C awk -v t="$t" -v e="$e" -v v="$v" -v e1="$e1" -v v1="$v1" 'BEGIN {
+            printf "| %d | %.3f | %.2f | %.3f | %.2f |\n", t, e, e1 / e, v, v1 / v }'
+    done
+    for pair in "EdgeCollapse_LeastError:$e1" "VertexRemoval:$v1"; do
+        two=$(speed real_time "ddsimp_${pair%%:*}/threads:2")
+        LC_ALL=C awk -v n="${pair%%:*}" -v a="${pair#*:}" -v b="$two" 'BEGIN {
+            printf "\nSerial fraction (%s, from 2 threads): %.2f", n, 2 * b / a - 1 }'
+    done
+    echo
     echo
     reproduce="bench/run.sh$($quick && echo ' --quick')"
     if [[ -n "${DDSIMP_BENCH_SURFACE:-}" ]]; then

@@ -219,38 +219,44 @@ bool Simplifier::rank_candidates(size_t& share) {
         born_.clear();
     }
     scratch_.clear();
-    size_t kept = 0;
-    for (const Member& member : pool_) {
-        const uint32_t id = member.id;
-        const uint32_t a = collapse ? mesh_.origin[id] : id;
-        const bool live = collapse ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
-                                   : mesh_.kind[id] != VertexKind::Dead;
-        if (!live) {
-            listed_[id] = 0;
-            continue;
+    // Per member, side by side: whether it is live, and whether it is a candidate, with its key
+    // computed again if what it reads changed. Each writes only its own member and id.
+    status_.resize(pool_.size());
+    const size_t swept = in_blocks(pool_.size(), [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            Member& m = pool_[i];
+            const uint32_t id = m.id;
+            const uint32_t a = collapse ? mesh_.origin[id] : id;
+            const bool live = collapse
+                                  ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
+                                  : mesh_.kind[id] != VertexKind::Dead;
+            if (!live) {
+                listed_[id] = 0, status_[i] = kDeadMember;
+                continue;
+            }
+            const uint32_t b = collapse ? mesh_.dest(id) : kNone;
+            if (collapse ? !collapsible(id, a, b) : !removable(id)) {
+                status_[i] = kLiveMember;
+                continue;
+            }
+            status_[i] = kCandidate;
+            const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
+            if (m.keyed == kNever || changed > m.keyed) {
+                m.key = collapse ? collapse_key(id) : removal_key(id), m.keyed = pass_;
+                if (collapse) raised_[id] = 0;
+            }
         }
-        Member& m = pool_[kept++];
-        m = member;
-        const uint32_t b = collapse ? mesh_.dest(id) : kNone;
-        if (collapse ? !collapsible(id, a, b) : !removable(id)) continue;
-        const uint32_t changed = std::max(rekey_[a], collapse ? rekey_[b] : uint32_t(0));
-        if (m.keyed == kNever || changed > m.keyed) m.keyed = kStale;
-        candidates_.push_back(uint32_t(kept - 1));
+    });
+    if (swept < pool_.size()) return false;
+    // The pool without the dead, and the candidates with a finite key, in id order.
+    size_t kept = 0;
+    for (size_t i = 0; i < pool_.size(); ++i) {
+        if (status_[i] == kDeadMember) continue;
+        if (status_[i] == kCandidate && !std::isinf(pool_[i].key.weight))
+            scratch_.push_back(detail::Candidate::make(pool_[i].key, uint32_t(kept)));
+        pool_[kept++] = pool_[i];
     }
     pool_.resize(kept);
-    // A key reads the surface and writes only its own member: the same whatever the threads.
-    const size_t keyed = in_blocks(candidates_.size(), [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i)
-            if (Member& m = pool_[candidates_[i]]; m.keyed == kStale) {
-                m.key = collapse ? collapse_key(m.id) : removal_key(m.id), m.keyed = pass_;
-                if (collapse) raised_[m.id] = 0;
-            }
-    });
-    if (keyed < candidates_.size()) return candidates_.clear(), false;
-    for (const uint32_t i : candidates_)
-        if (!std::isinf(pool_[i].key.weight))
-            scratch_.push_back(detail::Candidate::make(pool_[i].key, i));
-    candidates_.clear();
     share = scratch_.empty()
                 ? 0
                 : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(scratch_.size()))));
@@ -258,24 +264,24 @@ bool Simplifier::rank_candidates(size_t& share) {
     return true;
 }
 
-size_t Simplifier::neighbourhood(uint32_t id, uint32_t* out) const {
+size_t Simplifier::neighbourhood(uint32_t id, uint32_t* out, size_t max) const {
     size_t n = 0;
+    bool fits = true;
     auto add_star = [&](uint32_t v) {
-        out[n++] = v;
+        fits = fits && n < max;
+        if (fits) out[n++] = v;
         mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
-            if (n < kMaxNeighbourhood) out[n++] = u;
+            fits = fits && n < max;
+            if (fits) out[n++] = u;
         });
     };
     if (options_.strategy == Strategy::EdgeCollapse) {
-        const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
-        if (size_t(mesh_.valence[a]) + mesh_.valence[b] + 2 > kMaxNeighbourhood) return 0;
-        add_star(a);
-        add_star(b);
+        add_star(mesh_.origin[id]);
+        add_star(mesh_.dest(id));
     } else {
-        if (size_t(mesh_.valence[id]) + 1 > kMaxNeighbourhood) return 0;
         add_star(id);
     }
-    return n;
+    return fits ? n : 0;
 }
 
 bool Simplifier::waits(uint32_t id, float key, float planned) {
@@ -319,37 +325,53 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     for (uint32_t i = 0; i < share; ++i)
         if (order_[i].weight() <= options_.max_weight) contenders_.push_back(i);
     taken_.clear();
-    for (int round = 0; round < kSelectionRounds && !contenders_.empty(); ++round) {
-        const size_t k = contenders_.size();
-        near_begin_.resize(k + 1);
-        near_begin_[0] = 0;
-        for (size_t c = 0; c < k; ++c) {
-            const uint32_t id = pool_[order_[contenders_[c]].id].id;
-            const size_t most = collapse ? size_t(mesh_.valence[mesh_.origin[id]]) +
-                                               mesh_.valence[mesh_.dest(id)] + 2
-                                         : size_t(mesh_.valence[id]) + 1;
-            near_begin_[c + 1] = near_begin_[c] + uint32_t(std::min(most, kMaxNeighbourhood));
-        }
-        near_.resize(near_begin_[k]);
-        won_.assign(k, 0);
-        checked_.assign(k, Check::Refused);
-        if (collapse) plans_.resize(k);
-        else slots_.resize(k), removed_.resize(k);
-        // Claim: every vertex keeps the lightest contender whose neighbourhood holds it.
-        size_t ok = in_blocks(k, [&](size_t begin, size_t end) {
+    // Each contender's neighbourhood, once per pass (near_ from near_begin_[c]; a kFree after
+    // the last vertex when it holds fewer than its room, or first when it is out of the pass).
+    const size_t k = contenders_.size();
+    near_begin_.resize(k + 1);
+    near_begin_[0] = 0;
+    for (size_t c = 0; c < k; ++c) {
+        const uint32_t id = pool_[order_[contenders_[c]].id].id;
+        const size_t most = collapse ? size_t(mesh_.valence[mesh_.origin[id]]) +
+                                           mesh_.valence[mesh_.dest(id)] + 2
+                                     : size_t(mesh_.valence[id]) + 1;
+        near_begin_[c + 1] = near_begin_[c] + uint32_t(std::min(most, kMaxNeighbourhood));
+    }
+    near_.resize(near_begin_[k]);
+    if (in_blocks(k, [&](size_t begin, size_t end) {
             for (size_t c = begin; c < end; ++c) {
                 uint32_t* near = &near_[near_begin_[c]];
-                const uint32_t rank = contenders_[c];
-                const size_t n = neighbourhood(pool_[order_[rank].id].id, near);
-                near_begin_[c + 1] - near_begin_[c] > n ? (void)(near[n] = kFree) : (void)0;
-                bool free = n > 0;
-                for (size_t j = 0; j < n && free; ++j) free = busy_[near[j]] != pass_;
+                const size_t room = near_begin_[c + 1] - near_begin_[c];
+                const size_t n = neighbourhood(pool_[order_[contenders_[c]].id].id, near, room);
+                if (n < room) near[n] = kFree;
+            }
+        }) < k)
+        return stop = StopReason::Cancelled, true;
+    auto near_end = [&](size_t c) {
+        const uint32_t* b = &near_[near_begin_[c]];
+        const uint32_t* e = &near_[near_begin_[c + 1]];
+        return std::find(b, e, kFree);
+    };
+    won_.assign(k, 0);
+    active_.resize(k);
+    for (uint32_t c = 0; c < k; ++c) active_[c] = c;
+    for (int round = 0; round < kSelectionRounds && !active_.empty(); ++round) {
+        const size_t n_active = active_.size();
+        // Claim: every vertex keeps the lightest contender whose neighbourhood holds it. A
+        // contender next to an operation taken in an earlier round is out of the pass.
+        size_t ok = in_blocks(n_active, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const uint32_t c = active_[i], rank = contenders_[c];
+                uint32_t* near = &near_[near_begin_[c]];
+                const uint32_t* e = near_end(c);
+                bool free = near != e;
+                for (const uint32_t* v = near; v != e && free; ++v) free = busy_[*v] != pass_;
                 if (!free) {
-                    near[0] = kFree; // out of this pass
+                    near[0] = kFree;
                     continue;
                 }
-                for (size_t j = 0; j < n; ++j) {
-                    std::atomic_ref<uint32_t> claim(claim_[near[j]]);
+                for (const uint32_t* v = near; v != e; ++v) {
+                    std::atomic_ref<uint32_t> claim(claim_[*v]);
                     uint32_t now = claim.load(std::memory_order_relaxed);
                     while (rank < now && !claim.compare_exchange_weak(now, rank,
                                                                       std::memory_order_relaxed)) {
@@ -357,66 +379,66 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
                 }
             }
         });
-        if (ok < k) return stop = StopReason::Cancelled, true;
+        if (ok < n_active) return stop = StopReason::Cancelled, true;
         // Won: the contender holds every vertex of its neighbourhood. Then checked, on the
         // surface as the pass found it (no taken operation touches what it reads).
-        auto near_end = [&](size_t c) {
-            const uint32_t* b = &near_[near_begin_[c]];
-            const uint32_t* e = &near_[near_begin_[c + 1]];
-            return std::find(b, e, kFree);
-        };
-        ok = in_blocks(k, [&](size_t begin, size_t end) {
-            for (size_t c = begin; c < end; ++c) {
-                const uint32_t rank = contenders_[c];
+        ok = in_blocks(n_active, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const uint32_t c = active_[i], rank = contenders_[c];
                 const uint32_t* b = &near_[near_begin_[c]];
                 const uint32_t* e = near_end(c);
-                if (b == e) continue;
-                bool wins = true;
+                bool wins = b != e;
                 for (const uint32_t* v = b; v != e && wins; ++v)
                     wins = std::atomic_ref<uint32_t>(claim_[*v]).load(std::memory_order_relaxed) ==
                            rank;
                 won_[c] = wins;
             }
         });
-        if (ok < k) return stop = StopReason::Cancelled, true;
-        parallel_.for_each(k, [&](size_t c) {
+        if (ok < n_active) return stop = StopReason::Cancelled, true;
+        parallel_.for_each(n_active, [&](size_t i) {
+            const uint32_t c = active_[i];
             for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
                 std::atomic_ref<uint32_t>(claim_[*v]).store(kFree, std::memory_order_relaxed);
         });
-        ok = in_blocks(k, [&](size_t begin, size_t end) {
-            for (size_t c = begin; c < end; ++c) {
-                if (!won_[c]) continue;
+        winners_.clear();
+        for (const uint32_t c : active_)
+            if (won_[c]) winners_.push_back(c);
+        const size_t w = winners_.size();
+        checked_.resize(w);
+        if (collapse)
+            plans_.resize(w);
+        else
+            slots_.resize(w), removed_.resize(w);
+        ok = in_blocks(w, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i) {
+                const uint32_t c = winners_[i];
                 Member& m = pool_[order_[contenders_[c]].id];
-                checked_[c] = collapse ? check_collapse(m, plans_[c])
-                                       : check_removal(m.id, slots_[c], removed_[c]);
-                if (checked_[c] == Check::Taken)
+                checked_[i] = collapse ? check_collapse(m, plans_[i])
+                                       : check_removal(m.id, slots_[i], removed_[i]);
+                if (checked_[i] == Check::Taken)
                     for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
                         busy_[*v] = pass_;
             }
         });
-        if (ok < k) return stop = StopReason::Cancelled, true;
+        if (ok < w) return stop = StopReason::Cancelled, true;
         // The taken ones; the others that did not win (and are not out) contend again.
-        size_t next = 0;
-        bool any = false;
-        for (size_t c = 0; c < k; ++c) {
-            if (won_[c]) {
-                if (checked_[c] == Check::Taken) {
-                    any = true;
-                    if (collapse) { // plans_ is overwritten by the next round
-                        taken_.push_back({contenders_[c], uint32_t(taken_plans_.size())});
-                        taken_plans_.push_back(plans_[c]);
-                    } else {
-                        taken_.push_back({contenders_[c], uint32_t(taken_slots_.size())});
-                        taken_slots_.push_back(slots_[c]);
-                        taken_removed_.push_back(removed_[c]);
-                    }
-                }
-            } else if (near_[near_begin_[c]] != kFree) {
-                contenders_[next++] = contenders_[c];
+        for (size_t i = 0; i < w; ++i) {
+            if (checked_[i] != Check::Taken) continue;
+            const uint32_t rank = contenders_[winners_[i]];
+            if (collapse) { // plans_ is overwritten by the next round
+                taken_.push_back({rank, uint32_t(taken_plans_.size())});
+                taken_plans_.push_back(plans_[i]);
+            } else {
+                taken_.push_back({rank, uint32_t(taken_slots_.size())});
+                taken_slots_.push_back(slots_[i]);
+                taken_removed_.push_back(removed_[i]);
             }
         }
-        contenders_.resize(next);
-        if (!any) break;
+        size_t next = 0;
+        for (const uint32_t c : active_)
+            if (!won_[c] && near_[near_begin_[c]] != kFree) active_[next++] = c;
+        active_.resize(next);
+        if (w == 0) break;
     }
 
     // Apply in key order, as far as the target: a direct run to any target stops at the first

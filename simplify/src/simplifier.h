@@ -79,7 +79,7 @@ private:
     // Rounds of selection per pass: each takes, among the share's candidates that no operation
     // taken so far touches, those that are the lightest of every candidate whose neighbourhood
     // meets theirs.
-    static constexpr int kSelectionRounds = 3;
+    static constexpr int kSelectionRounds = 16;
     // Items of a parallel stage between two progress calls (see checkpoint).
     static constexpr size_t kBlock = 8192;
 
@@ -101,9 +101,9 @@ private:
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
     // The vertices a candidate's operation reads or changes: the vertices it moves or removes
-    // and their neighbours, into out[0..kMaxNeighbourhood); returns their number (0: too many).
+    // and their neighbours (some twice), into out[0..max); returns their number (0: more).
     static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
-    size_t neighbourhood(uint32_t id, uint32_t* out) const;
+    size_t neighbourhood(uint32_t id, uint32_t* out, size_t max) const;
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
     // f(begin, end) over [0, n) on the threads, block by block of kBlock items, with a progress
@@ -200,8 +200,6 @@ private:
     // born_ holds the edges a collapse made since the last pass (merged edges get new ids).
     // Each pool member keeps its key and the pass after which it was computed (kNever: not yet).
     static constexpr uint32_t kNever = 0xffffffffu;
-    // A member whose key rank_candidates computes again (passes never count up to it).
-    static constexpr uint32_t kStale = kNever - 1;
     struct Member {
         uint32_t id, keyed;
         detail::Key key;
@@ -209,8 +207,9 @@ private:
     // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
     // so they are in id order too.
     std::vector<Member> pool_;
-    // rank_candidates' scratch on several threads: the pool members that are candidates this pass.
-    std::vector<uint32_t> candidates_;
+    // rank_candidates' scratch: what each pool member is this pass.
+    static constexpr uint8_t kDeadMember = 0, kLiveMember = 1, kCandidate = 2;
+    std::vector<uint8_t> status_;
     std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
     // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
@@ -223,8 +222,10 @@ private:
     static constexpr uint32_t kFree = 0xffffffffu;
     std::vector<uint32_t> claim_;
     // A pass's contenders (ranks in order_), their neighbourhoods (near_ from near_begin_[k]),
-    // whether each won its round, what its check found and its plan.
-    std::vector<uint32_t> contenders_, near_, near_begin_;
+    // whether each won its round; the winners (indices into contenders_), what each one's check
+    // found and its plan.
+    std::vector<uint32_t> contenders_, near_, near_begin_, winners_;
+    std::vector<uint32_t> active_; // the contenders (indices) still in the pass's selection
     std::vector<uint8_t> won_;
     std::vector<Check> checked_;
     std::vector<CollapsePlan> plans_;
