@@ -1,5 +1,6 @@
 // ddsimp remote simplify FILE|--surface ID --alpha A --keep K1,K2 -o DIR: asks the server for
-// levels, writes each into DIR as it arrives (coarsest first) and prints one JSON line for it.
+// levels and prints one JSON line per mesh that arrives (a preview the server sends at once, then
+// the exact levels), writing only the exact levels into DIR.
 #include "cli_support.h"
 #include "command_remote.h"
 #include "commands.h"
@@ -26,8 +27,10 @@ struct RemoteSimplifyArgs {
     double alpha = Options{}.alpha;
     std::vector<double> keep;
     std::string strategy = "edge";
-    std::string placement = "midpoint";
+    std::string placement = "least-error";
+    std::string terms = "quadrics";
     std::vector<std::string> fields;
+    double feature_angle = Options{}.feature_angle;
     bool progressive = false;
     bool raw = false;
     std::string output;
@@ -105,10 +108,12 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
         request.keep = args.keep;
         request.strategy =
             args.strategy == "vertex" ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
-        request.placement = args.placement == "volume"        ? Placement::VolumePreserving
-                            : args.placement == "least-error" ? Placement::LeastError
-                                                              : Placement::Midpoint;
+        request.placement = args.placement == "volume"     ? Placement::VolumePreserving
+                            : args.placement == "midpoint" ? Placement::Midpoint
+                                                           : Placement::LeastError;
+        request.terms = args.terms == "paper" ? Terms::AngleDeficitGradient : Terms::ErrorQuadrics;
         request.gradient_fields = args.fields;
+        request.feature_angle = args.feature_angle;
         request.progressive = args.progressive;
         request.encoding = args.raw ? Encoding::Raw : Encoding::Meshopt;
 
@@ -116,7 +121,7 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
         LevelQueue arrived;
         PendingRequest pending =
             client.request(request, [&arrived](const Level& l) { arrived.push(l); });
-        for (size_t n = 0; n < args.keep.size(); ++n) {
+        for (size_t n = 0; n < args.keep.size();) {
             std::optional<Level> level;
             while (!(level = arrived.pop_for(std::chrono::milliseconds(100)))) {
                 if (pending.done.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
@@ -131,14 +136,17 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
             // As asked, not as the float the protocol carried back.
             const double keep =
                 level->index < args.keep.size() ? args.keep[level->index] : level->keep;
-            const std::string file = level_file(args.output, keep);
             const Surface mesh = without_unused_vertices(level->mesh);
-            io::write_surface(mesh, file);
-            nlohmann::json line = {{"keep", keep}, {"triangles", mesh.triangle_count()}};
+            nlohmann::json line = {
+                {"keep", keep}, {"preview", level->preview}, {"triangles", mesh.triangle_count()}};
             add_level_error(line, level->error);
-            line.update({{"vertices", mesh.vertex_count()},
-                         {"file", file},
-                         {"seconds", seconds},
+            line["vertices"] = mesh.vertex_count();
+            if (!level->preview) {
+                line["file"] = level_file(args.output, keep);
+                io::write_surface(mesh, line["file"].get<std::string>());
+                ++n;
+            }
+            line.update({{"seconds", seconds},
                          {"server_seconds", level->seconds},
                          {"cached", level->cached},
                          {"bytes", level->wire_bytes},
@@ -170,8 +178,17 @@ Command add_remote_simplify(CLI::App& remote) {
         ->check(CLI::IsMember({"edge", "vertex"}))
         ->capture_default_str();
     sub->add_option("--placement", args->placement,
-                    "Edge collapse point: midpoint, volume or least-error")
-        ->check(CLI::IsMember({"midpoint", "volume", "least-error"}))
+                    "Edge collapse point: least-error (on the edge), midpoint or volume")
+        ->check(CLI::IsMember({"least-error", "midpoint", "volume"}))
+        ->capture_default_str();
+    sub->add_option("--terms", args->terms,
+                    "What the weight measures: quadrics (error against the input) or paper "
+                    "(angle deficit and data gradient)")
+        ->check(CLI::IsMember({"quadrics", "paper"}))
+        ->capture_default_str();
+    sub->add_option("--feature-angle", args->feature_angle,
+                    "Dihedral angle (degrees) above which an edge is a feature; 180: none")
+        ->check(CLI::Range(0.0, 180.0))
         ->capture_default_str();
     sub->add_option("--fields", args->fields, "Fields that drive the data term (default: all)")
         ->delimiter(',');

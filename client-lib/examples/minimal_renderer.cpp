@@ -36,7 +36,9 @@ int main(int argc, char** argv) {
         request.progressive = true;
         ddsimp::PendingRequest pending = client.request(request, [](const ddsimp::Level& level) {
             // A renderer would upload level.slots (progressive) or level.mesh to the GPU here.
-            std::printf("level keep=%g: %llu triangles, %zu vertices, %llu bytes%s\n", level.keep,
+            // A preview is a stand-in the server sends at once; the exact level replaces it.
+            std::printf("%s keep=%g: %llu triangles, %zu vertices, %llu bytes%s\n",
+                        level.preview ? "preview" : "level", level.keep,
                         static_cast<unsigned long long>(level.triangles), level.mesh.vertex_count(),
                         static_cast<unsigned long long>(level.wire_bytes),
                         level.refinement ? " (refinement)" : "");

@@ -88,6 +88,7 @@ Level level_from(const v1::MeshBegin& begin, uint64_t wire_bytes) {
     level.cached = begin.cached();
     level.result = begin.result();
     level.target_reached = begin.target_reached();
+    level.preview = begin.preview();
     if (begin.has_error())
         level.error = LevelError{begin.error().geometric(), begin.error().data(),
                                  size_t(begin.error().data_components())};
@@ -608,7 +609,10 @@ struct Client::Impl {
                 level.slots = held->slots();
             } else {
                 Surface surface = protocol::decode_mesh(mesh.bytes, mesh.layout);
-                if (!request || request->progressive) {
+                if (begin.preview()) {
+                    // Drawn now, replaced by the exact level: never the base of refinements.
+                    if (request && request->progressive) level.slots = surface;
+                } else if (!request || request->progressive) {
                     held.emplace(surface);
                     level.slots = surface;
                 }
@@ -631,7 +635,7 @@ struct Client::Impl {
         auto r = requests.find(begin.request_id());
         if (r == requests.end()) return;
         const uint32_t i = begin.level();
-        if (i < r->second.levels.size() && !r->second.ready[i]) {
+        if (!begin.preview() && i < r->second.levels.size() && !r->second.ready[i]) {
             r->second.ready[i] = true;
             r->second.levels[i].set_value(std::move(level));
         }

@@ -1,5 +1,7 @@
 #include "convert.h"
 
+#include "ddsimp/protocol/reduction_options.h"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -104,13 +106,6 @@ ClientError error_of(const v1::Error& error) {
     return ClientError(error_code_of(error.code()), text, error.request_id());
 }
 
-v1::Strategy to_wire(Strategy strategy) {
-    return strategy == Strategy::VertexRemoval ? v1::VERTEX_REMOVAL : v1::EDGE_COLLAPSE;
-}
-Strategy from_wire(v1::Strategy strategy) {
-    return strategy == v1::VERTEX_REMOVAL ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
-}
-
 v1::ClientKind to_wire(ClientKind kind) {
     switch (kind) {
     case ClientKind::VR:
@@ -158,8 +153,10 @@ SessionState from_wire(const v1::SessionState& state) {
     for (const v1::Member& m : state.members())
         out.members.push_back({m.client_id(), m.name(), from_wire(m.kind())});
     out.leader = state.leader();
-    out.view = {state.view().surface(), state.view().alpha(), state.view().keep(),
-                state.view().field(), from_wire(state.view().strategy())};
+    const v1::View& view = state.view();
+    out.view = {view.surface(),
+                view.has_alpha_exact() ? view.alpha_exact() : protocol::from_wire(view.alpha()),
+                view.keep(), view.field(), protocol::from_wire(view.strategy())};
     out.cause = state.cause();
     out.changed_by = state.changed_by();
     return out;
@@ -170,20 +167,14 @@ v1::Request to_wire(const LevelRequest& request, uint64_t id, bool meshopt, bool
     out.set_request_id(id);
     for (double k : request.keep) out.add_keep(float(k));
     out.set_progressive(progressive && request.progressive);
+    out.set_supersede(request.supersede);
     out.set_encoding(meshopt && request.encoding == Encoding::Meshopt ? v1::MESHOPT : v1::RAW);
     if (!request.result.empty()) {
         out.set_result(request.result);
         return out;
     }
     out.set_surface(request.surface);
-    out.set_alpha(float(request.alpha));
-    out.set_strategy(to_wire(request.strategy));
-    out.set_placement(request.placement == Placement::VolumePreserving ? v1::VOLUME
-                      : request.placement == Placement::LeastError     ? v1::LEAST_ERROR
-                                                                       : v1::MIDPOINT);
-    for (const std::string& f : request.gradient_fields) out.add_gradient_fields(f);
-    // The protocol's 0 means "off" (180).
-    out.set_feature_angle(request.feature_angle >= 180 ? 0.0f : float(request.feature_angle));
+    protocol::set_options(out, request);
     return out;
 }
 
@@ -193,12 +184,12 @@ v1::SetSessionState to_wire(const std::string& session, const ViewChange& change
     v1::View& view = *out.mutable_view();
     if (change.surface) view.set_surface(*change.surface);
     if (change.alpha) {
-        view.set_alpha(float(*change.alpha));
+        protocol::set_alpha(view, *change.alpha);
         out.set_set_alpha(true);
     }
     if (change.keep) view.set_keep(float(*change.keep));
     if (change.field) view.set_field(*change.field);
-    if (change.strategy) view.set_strategy(to_wire(*change.strategy));
+    if (change.strategy) view.set_strategy(protocol::to_wire(*change.strategy));
     return out;
 }
 
@@ -211,8 +202,12 @@ void check_request(const LevelRequest& request) {
     if (request.keep.empty()) refuse("a request asks for no level (the keep list is empty)");
     for (double k : request.keep)
         if (!(k > 0 && k <= 1)) refuse("keep " + std::to_string(k) + " is outside (0, 1]");
-    if (request.result.empty() && !(request.alpha >= 0 && request.alpha <= 1))
-        refuse("alpha " + std::to_string(request.alpha) + " is outside [0, 1]");
+    if (!request.result.empty()) return;
+    try {
+        check_options(request);
+    } catch (const InputError& e) {
+        refuse(e.what());
+    }
 }
 
 } // namespace client_detail

@@ -9,8 +9,6 @@ namespace ddsimp::client_detail {
 ErrorCode error_code_of(v1::Error::Code code);
 ClientError error_of(const v1::Error& error);
 
-v1::Strategy to_wire(Strategy strategy);
-Strategy from_wire(v1::Strategy strategy);
 v1::ClientKind to_wire(ClientKind kind);
 ClientKind from_wire(v1::ClientKind kind);
 

@@ -4,6 +4,7 @@
 #include "service.h"
 
 #include "ddsimp/protocol/mesh_codec.h"
+#include "ddsimp/protocol/reduction_options.h"
 
 #include <spdlog/spdlog.h>
 
@@ -12,7 +13,7 @@ namespace {
 
 // What this server can do; Welcome answers with the intersection.
 const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessions",
-                                          "session-keys"};
+                                          "session-keys", "previews"};
 
 } // namespace
 
@@ -147,6 +148,7 @@ void Connection::on_hello(const v1::Hello& hello) {
     welcome.set_max_frame_bytes(config.max_frame_bytes);
     welcome.set_max_surface_triangles(config.max_surface_triangles);
     welcome.set_chunk_bytes(uint32_t(protocol::kDefaultChunkBytes));
+    protocol::set_defaults(*welcome.mutable_defaults());
     send(welcome);
     if (config.token.empty()) {
         authenticated_ = true;
@@ -304,6 +306,7 @@ void Connection::on_cancel(const v1::Cancel& cancel) {
     const uint64_t id = cancel.request_id();
     if (!active_requests_.count(id)) return; // finished already: nothing to cancel
     active_requests_.erase(id);
+    service_.cancel_request(*this, id);
     drop_unstarted([&](const BulkItem& item) { return item.request_id == id; });
     send_error(v1::Error::CANCELLED, "request " + std::to_string(id) + " cancelled", id);
 }

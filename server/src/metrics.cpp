@@ -30,6 +30,12 @@ std::string Metrics::render(const Snapshot& s) const {
     metric("requests_total", "counter", "Reduction requests received.", requests.load());
     metric("request_errors_total", "counter", "Requests ended by an error.", request_errors.load());
     metric("levels_sent_total", "counter", "Levels (or refinements) sent.", levels_sent.load());
+    metric("reductions_running", "gauge", "Records being computed now.", reductions_running.load());
+    metric("reductions_cancelled_total", "counter",
+           "Computations cancelled because no request or session waited for them any more.",
+           reductions_cancelled.load());
+    metric("previews_sent_total", "counter", "Previews sent before an exact level.",
+           previews_sent.load());
     metric("computations_total", "counter", "Records and levels computed (cache misses that ran).",
            s.computations);
     metric("cache_hits_total", "counter", "Result cache hits.", s.cache_hits);

@@ -24,6 +24,9 @@ struct Metrics {
     std::atomic<int64_t> upload_bytes{0};     // uploads received but not yet stored, all clients
     std::atomic<uint64_t> bytes_sent{0};
     std::atomic<uint64_t> bytes_received{0};
+    std::atomic<int64_t> reductions_running{0};    // records being computed now
+    std::atomic<uint64_t> reductions_cancelled{0}; // computations stopped: nobody waited any more
+    std::atomic<uint64_t> previews_sent{0};
 
     // Job latency: time from a request's arrival to its levels being ready to send.
     void observe_job_seconds(double seconds);

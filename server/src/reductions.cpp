@@ -1,35 +1,13 @@
 #include "reductions.h"
 
-#include "ddsimp/protocol/content_hash.h"
+#include "ddsimp/protocol/reduction_options.h"
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 namespace ddsimp::server {
-
-Options ReductionParams::options() const {
-    Options o;
-    o.alpha = alpha;
-    o.strategy = strategy;
-    o.placement = placement;
-    o.gradient_fields = gradient_fields;
-    o.feature_angle = feature_angle > 0 ? feature_angle : 180.0;
-    o.keep_fraction = 0;
-    return o;
-}
-
-std::string result_key(const ReductionParams& p) {
-    char numbers[96];
-    std::snprintf(numbers, sizeof numbers, "%.9g|%d|%d|%.9g", double(p.alpha), int(p.strategy),
-                  int(p.placement), double(p.feature_angle));
-    // The library's own version too: its output for the same options changes with it.
-    std::string text = std::string(kAlgorithmVersion) + "/" + std::to_string(algorithm_version) +
-                       "|" + p.surface + "|" + numbers;
-    for (const std::string& f : p.gradient_fields) text += '\0' + f;
-    return protocol::sha256_hex(text);
-}
 
 size_t ComputedRecord::bytes() const {
     const Surface& v = record.vertices();
@@ -46,35 +24,77 @@ void set_level_error(v1::LevelError& out, const ProgressiveRecord& record, size_
     out.set_data_components(uint32_t(e.data_components));
 }
 
-size_t target_triangles(const ProgressiveRecord& record, double keep) {
-    return size_t(std::floor(keep * double(record.triangles_in()) + 1e-9));
+namespace {
+
+std::string record_key(const std::string& key, size_t depth) {
+    return "record/" + key + "/" + std::to_string(depth);
+}
+
+} // namespace
+
+std::shared_ptr<const ComputedRecord> Reductions::cached_record(const std::string& key,
+                                                                size_t depth) {
+    std::lock_guard lock(depths_mutex_);
+    auto it = depths_.find(key);
+    if (it == depths_.end()) return nullptr;
+    for (auto d = it->second.begin(); d != it->second.end() && d->first <= depth;) {
+        if (auto found = cache_.find<ComputedRecord>(record_key(key, d->second))) return found;
+        d = it->second.erase(d); // evicted
+    }
+    return nullptr;
 }
 
 std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& params,
-                                                         const std::string& key, bool* computed) {
-    return cache_.get<ComputedRecord>(
-        "record/" + key,
+                                                         const std::string& key, size_t depth,
+                                                         const std::atomic<bool>& cancelled,
+                                                         bool* computed) {
+    if (computed) *computed = false;
+    if (auto found = cached_record(key, depth)) return found;
+    auto out = cache_.get<ComputedRecord>(
+        record_key(key, depth),
         [&] {
             std::shared_ptr<const Surface> surface = store_.load(params.surface);
             if (!surface) throw std::invalid_argument("no surface " + params.surface);
-            for (const std::string& f : params.gradient_fields)
+            for (const std::string& f : params.options.gradient_fields)
                 if (!surface->find_field(f))
                     throw std::invalid_argument("the surface has no field \"" + f + "\"");
+            Options options = params.options;
+            options.keep_fraction = 0;
+            options.target_triangles = depth;
+            options.threads = engine_threads_;
+            options.progress = [&cancelled](double) { return !cancelled.load(); };
             const auto start = std::chrono::steady_clock::now();
-            auto out = std::make_shared<ComputedRecord>(
-                ComputedRecord{params, ProgressiveRecord::build(*surface, params.options()), 0});
+            ++metrics_.reductions_running;
+            std::optional<ProgressiveRecord> record;
+            try {
+                record.emplace(ProgressiveRecord::build(*surface, options));
+            } catch (...) {
+                --metrics_.reductions_running;
+                throw;
+            }
+            --metrics_.reductions_running;
+            if (record->stop() == StopReason::Cancelled) {
+                ++metrics_.reductions_cancelled;
+                throw Cancelled();
+            }
+            auto out =
+                std::make_shared<ComputedRecord>(ComputedRecord{params, std::move(*record), 0});
             out->seconds =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const size_t bytes = out->bytes();
             return std::pair<std::shared_ptr<const ComputedRecord>, size_t>{std::move(out), bytes};
         },
         computed);
+    std::lock_guard lock(depths_mutex_);
+    // A run that stopped before its target holds every level there is.
+    depths_[key][out->record.stop() == StopReason::TargetReached ? depth : 0] = depth;
+    return out;
 }
 
 std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& computed,
-                                                      const std::string& key, double keep,
+                                                      const std::string& key, float keep,
                                                       v1::Encoding encoding) {
-    const size_t target = target_triangles(computed.record, keep);
+    const size_t target = protocol::target_for_keep(keep, computed.record.triangles_in());
     return cache_.get<EncodedLevel>(
         "level/" + key + "/" + std::to_string(target) + "/" + std::to_string(int(encoding)), [&] {
             const size_t operations = computed.record.operations_for(target);

@@ -2,35 +2,29 @@
 // options), cached under its content key, and every level cut from it and encoded (cached too).
 #pragma once
 
+#include "metrics.h"
 #include "result_cache.h"
 #include "surface_store.h"
 
 #include "ddsimp/ddsimp.h"
 #include "ddsimp/protocol/mesh_codec.h"
 
+#include <atomic>
+#include <map>
 #include <memory>
+#include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace ddsimp::server {
 
-// Bumped whenever the library's output for the same input and options may change, so cached
-// keys from another version never match.
-inline constexpr const char* kAlgorithmVersion = "ddsimp-0.1.0/1";
-
+// What a result is computed from: a stored surface and the library's options (see
+// protocol/reduction_options.h for how a request becomes them and for the result key).
 struct ReductionParams {
     std::string surface;
-    float alpha = 0.5f;
-    Strategy strategy = Strategy::EdgeCollapse;
-    Placement placement = Placement::Midpoint;
-    std::vector<std::string> gradient_fields;
-    float feature_angle = 0; // 0: off
-
-    Options options() const; // the library's options (keep_fraction 0: record every operation)
+    Options options; // keep_fraction 0: record every operation
 };
-
-// hex SHA-256 of the surface id, α, options and algorithm version.
-std::string result_key(const ReductionParams& params);
 
 struct ComputedRecord {
     ReductionParams params;
@@ -49,22 +43,42 @@ struct EncodedLevel {
 // The error of the level after `operations` operations of `record`, as MeshBegin carries it.
 void set_level_error(v1::LevelError& out, const ProgressiveRecord& record, size_t operations);
 
-// The triangle count a keep fraction asks for, as `ddsimp simplify --keep` counts it.
-size_t target_triangles(const ProgressiveRecord& record, double keep);
+// A computation stopped by its cancel flag (computations.h); nothing is cached.
+class Cancelled : public std::runtime_error {
+public:
+    Cancelled() : std::runtime_error("cancelled") {}
+};
 
 class Reductions {
 public:
-    Reductions(const SurfaceStore& store, ResultCache& cache) : store_(store), cache_(cache) {}
+    // `engine_threads`: Options::threads of every run (the pool's threads times these stay
+    // within the cores).
+    Reductions(const SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
+        : store_(store), cache_(cache), metrics_(metrics), engine_threads_(engine_threads) {}
 
-    // Throws std::invalid_argument for an unknown surface or field, InputError from the library.
+    // A record of `params` that holds every level down to `depth` triangles: cached, or run now
+    // to that depth (and no further: a level is ready as soon as the run has passed it).
+    // Another caller's run of the same key and depth is waited for. Throws
+    // std::invalid_argument for an unknown surface or field, InputError from the library,
+    // Cancelled when `cancelled` (or, for a run this call waited for, its own flag) stopped it.
     std::shared_ptr<const ComputedRecord> record(const ReductionParams& params,
-                                                 const std::string& key, bool* computed);
+                                                 const std::string& key, size_t depth,
+                                                 const std::atomic<bool>& cancelled,
+                                                 bool* computed);
+    // A cached record of `key` that reaches `depth` triangles, or null (no computation).
+    std::shared_ptr<const ComputedRecord> cached_record(const std::string& key, size_t depth);
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,
-                                              double keep, v1::Encoding encoding);
+                                              float keep, v1::Encoding encoding);
 
 private:
     const SurfaceStore& store_;
     ResultCache& cache_;
+    Metrics& metrics_;
+    const int engine_threads_;
+    // Per key, the runs made: the depth each reaches (0: as far as the surface allows) -> the
+    // depth it was run to, to find a cached record deep enough.
+    std::mutex depths_mutex_;
+    std::map<std::string, std::map<size_t, size_t>> depths_;
 };
 
 } // namespace ddsimp::server

@@ -45,6 +45,14 @@ ResultCache::get_erased(const std::string& key,
     return result.first;
 }
 
+ResultCache::Erased ResultCache::find_erased(const std::string& key) {
+    std::lock_guard lock(mutex_);
+    auto it = entries_.find(key);
+    if (it == entries_.end()) return nullptr;
+    uses_.splice(uses_.begin(), uses_, it->second.use);
+    return it->second.value;
+}
+
 void ResultCache::evict_locked() {
     while (stats_.bytes > max_bytes_ && !uses_.empty()) {
         auto it = entries_.find(uses_.back());

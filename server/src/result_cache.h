@@ -41,12 +41,18 @@ public:
         return std::static_pointer_cast<const T>(value);
     }
 
+    // The value under `key` if it is cached (not counted as a hit or miss); null otherwise.
+    template <class T> std::shared_ptr<const T> find(const std::string& key) {
+        return std::static_pointer_cast<const T>(find_erased(key));
+    }
+
     Stats stats() const;
 
 private:
     using Erased = std::shared_ptr<const void>;
     Erased get_erased(const std::string& key,
                       const std::function<std::pair<Erased, size_t>()>& compute, bool* computed);
+    Erased find_erased(const std::string& key);
     void evict_locked();
 
     struct Entry {

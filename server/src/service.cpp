@@ -3,6 +3,7 @@
 #include "client_limits.h"
 #include "surface_file.h"
 
+#include "ddsimp/protocol/reduction_options.h"
 #include "ddsimp/protocol/refinement.h"
 
 #include <boost/asio/post.hpp>
@@ -11,23 +12,12 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
+#include <thread>
 
 namespace ddsimp::server {
 namespace asio = boost::asio;
 
 namespace {
-
-Strategy strategy_of(v1::Strategy s) {
-    return s == v1::VERTEX_REMOVAL ? Strategy::VertexRemoval : Strategy::EdgeCollapse;
-}
-
-// PLACEMENT_UNSPECIFIED (and a value this server does not know) is the midpoint, as in protocol
-// version 1 from the start.
-Placement placement_of(v1::Placement p) {
-    return p == v1::VOLUME        ? Placement::VolumePreserving
-           : p == v1::LEAST_ERROR ? Placement::LeastError
-                                  : Placement::Midpoint;
-}
 
 void set_fields(google::protobuf::RepeatedPtrField<v1::FieldInfo>* out, const StoredSurface& s) {
     for (const auto& f : s.fields) {
@@ -52,29 +42,36 @@ std::string describe_repairs(const RepairReport& r) {
     return out;
 }
 
-// One level or refinement, ready to queue.
-struct PreparedLevel {
-    v1::MeshBegin begin;
-    std::shared_ptr<const std::string> blob;
-};
-
-using Clock = std::chrono::steady_clock;
+// The engine's threads per computation: the compute pool's threads times these stay within the
+// cores.
+int engine_threads(int pool_threads) {
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    return std::max(1, cores / std::max(1, pool_threads));
+}
 
 } // namespace
 
 Service::Service(asio::io_context& io, const Config& config)
     : io_(io), config_(config), store_(config.data_dir), cache_(config.cache_mb << 20),
-      reductions_(store_, cache_), sessions_(config.max_sessions) {
-    if (config.threads > 0) pool_.emplace(size_t(config.threads));
+      reductions_(store_, cache_, metrics_, engine_threads(config.threads)),
+      sessions_(config.max_sessions),
+      scheduler_(config.threads, io.get_executor(),
+                 kMaxRequestsPerConnection + kMaxUploadsPerConnection + kMaxSessionsPerConnection) {
+    if (config.threads > 0) preview_pool_.emplace(1);
     load_sample();
 }
 
 Service::~Service() {
-    if (pool_) pool_->join();
+    scheduler_.stop();
+    if (preview_pool_) preview_pool_->join();
 }
 
-asio::any_io_executor Service::compute() {
-    if (pool_) return pool_->get_executor();
+bool Service::compute(uint64_t client, Scheduler::Work work) {
+    return scheduler_.submit(client, std::move(work));
+}
+
+asio::any_io_executor Service::preview_executor() {
+    if (preview_pool_) return preview_pool_->get_executor();
     return io_.get_executor();
 }
 
@@ -111,6 +108,11 @@ void Service::accept(std::shared_ptr<Transport> transport) {
 void Service::connection_closed(Connection& c) {
     --metrics_.connections;
     for (const auto& [name, scope] : std::map(c.sessions())) leave(c, name);
+    std::vector<uint64_t> requests;
+    for (auto it = running_.lower_bound({c.id(), 0});
+         it != running_.end() && it->first.first == c.id(); ++it)
+        requests.push_back(it->first.second);
+    for (uint64_t rid : requests) forget_request(c.id(), rid);
     connections_.erase(c.id());
 }
 
@@ -166,7 +168,9 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
         scope = it->second;
     }
     c->begin_storing();
-    asio::post(compute(), [this, c, scope, begin = std::move(begin), bytes = std::move(bytes)] {
+    const uint64_t upload_id = begin.upload_id(), upload_bytes = begin.total_bytes();
+    const bool queued = compute(c->id(), [this, c, scope, begin = std::move(begin),
+                                          bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
         v1::Error error;
@@ -220,6 +224,13 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             }
         });
     });
+    if (!queued) {
+        c->end_storing();
+        release_upload_bytes(upload_bytes);
+        c->send_error(v1::Error::RESOURCE_EXHAUSTED,
+                      "upload " + std::to_string(upload_id) + ": too many jobs of yours waiting",
+                      upload_id);
+    }
 }
 
 void Service::list_surfaces(Connection& c) {
@@ -233,180 +244,6 @@ void Service::list_surfaces(Connection& c) {
         set_fields(info->mutable_fields(), s);
     }
     c.send(list);
-}
-
-// ----- requests -----
-
-void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
-    ++metrics_.requests;
-    const uint64_t rid = r.request_id();
-    const auto refuse = [&](v1::Error::Code code, const std::string& why) {
-        ++metrics_.request_errors;
-        c->send_error(code, "request " + std::to_string(rid) + ": " + why, rid);
-    };
-    if (r.keep_size() == 0)
-        return refuse(v1::Error::INVALID_ARGUMENT, "no levels (keep) asked for");
-    if (size_t(r.keep_size()) > kMaxLevelsPerRequest)
-        return refuse(v1::Error::INVALID_ARGUMENT,
-                      "more than " + std::to_string(kMaxLevelsPerRequest) + " levels");
-    if (size_t(r.gradient_fields_size()) > kMaxFields)
-        return refuse(v1::Error::INVALID_ARGUMENT,
-                      "more than " + std::to_string(kMaxFields) + " gradient fields");
-    for (const std::string& f : r.gradient_fields())
-        if (f.size() > kMaxNameBytes)
-            return refuse(v1::Error::INVALID_ARGUMENT,
-                          "a field name of " + std::to_string(f.size()) + " bytes (at most " +
-                              std::to_string(kMaxNameBytes) + ")");
-    for (float k : r.keep())
-        if (!(k > 0 && k <= 1))
-            return refuse(v1::Error::INVALID_ARGUMENT,
-                          "keep " + std::to_string(k) + " is not in (0, 1]");
-
-    ReductionParams params;
-    std::string key;
-    if (!r.result().empty()) {
-        // The same answer whether the result is unknown or of a surface this client may not see.
-        auto it = known_results_.find(r.result());
-        if (it == known_results_.end() || !store_.find(it->second.surface, c->scopes()))
-            return refuse(v1::Error::NOT_FOUND, "no result " + r.result());
-        params = it->second;
-        key = r.result();
-    } else {
-        if (!store_.find(r.surface(), c->scopes()))
-            return refuse(v1::Error::NOT_FOUND, "no surface " + r.surface());
-        if (!(r.alpha() >= 0 && r.alpha() <= 1))
-            return refuse(v1::Error::INVALID_ARGUMENT, "alpha must be in [0, 1]");
-        params.surface = r.surface();
-        params.alpha = r.alpha();
-        params.strategy = strategy_of(r.strategy());
-        params.placement = placement_of(r.placement());
-        params.gradient_fields.assign(r.gradient_fields().begin(), r.gradient_fields().end());
-        params.feature_angle = r.feature_angle();
-        if (!(params.feature_angle >= 0 && params.feature_angle <= 180))
-            return refuse(v1::Error::INVALID_ARGUMENT, "feature angle must be in [0, 180]");
-        key = result_key(params);
-        remember_result(key, params);
-    }
-    // A newer request for the same surface replaces the client's unsent older levels.
-    std::set<uint64_t> replaced;
-    c->drop_unstarted([&](const BulkItem& item) {
-        const bool stale =
-            item.request_id != 0 && item.request_id != rid && item.surface == params.surface;
-        if (stale) replaced.insert(item.request_id);
-        return stale;
-    });
-    for (uint64_t old : replaced) {
-        c->end_request(old);
-        c->send_error(
-            v1::Error::CANCELLED,
-            "request " + std::to_string(old) + " replaced by request " + std::to_string(rid), old);
-    }
-
-    const v1::Encoding encoding =
-        r.encoding() == v1::MESHOPT && c->has_capability("meshopt-codec") ? v1::MESHOPT : v1::RAW;
-    const bool progressive = r.progressive() && c->has_capability("progressive");
-    std::vector<size_t> order(size_t(r.keep_size()));
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return r.keep(int(a)) < r.keep(int(b)); });
-
-    c->begin_request(rid);
-    const auto start = Clock::now();
-    asio::post(compute(), [this, c, r, params, key, encoding, progressive, order, start] {
-        std::vector<PreparedLevel> levels;
-        v1::Error error;
-        error.set_request_id(r.request_id());
-        try {
-            bool computed = false;
-            auto rec = reductions_.record(params, key, &computed);
-            const auto begin_of = [&](size_t i) {
-                v1::MeshBegin b;
-                b.set_request_id(r.request_id());
-                b.set_level(uint32_t(i));
-                b.set_keep(r.keep(int(i)));
-                b.set_seconds(computed ? rec->seconds : 0);
-                b.set_cached(!computed);
-                b.set_result(key);
-                b.set_surface(params.surface);
-                return b;
-            };
-            if (!progressive) {
-                for (size_t i : order) {
-                    auto level = reductions_.level(*rec, key, r.keep(int(i)), encoding);
-                    PreparedLevel p{begin_of(i), {level, &level->blob.bytes}};
-                    p.begin.set_kind(v1::MeshBegin::FULL);
-                    protocol::set_layout(p.begin, level->blob.layout);
-                    p.begin.set_total_triangles(level->triangles);
-                    p.begin.set_target_reached(level->target_reached);
-                    set_level_error(*p.begin.mutable_error(), rec->record, level->operations);
-                    levels.push_back(std::move(p));
-                }
-            } else {
-                protocol::RefinementStream stream(rec->record.vertices());
-                bool first = true;
-                for (size_t i : order) {
-                    const size_t target = target_triangles(rec->record, r.keep(int(i)));
-                    const size_t ops = rec->record.operations_for(target);
-                    const std::vector<uint32_t> triangles = rec->record.indexed_triangles(ops);
-                    auto blob = std::make_shared<protocol::EncodedBlob>(
-                        first ? protocol::encode_mesh(stream.base(triangles), encoding)
-                              : protocol::encode_refinement(stream.refine(triangles), encoding));
-                    PreparedLevel p{begin_of(i), {blob, &blob->bytes}};
-                    p.begin.set_kind(first ? v1::MeshBegin::FULL : v1::MeshBegin::REFINEMENT);
-                    protocol::set_layout(p.begin, blob->layout);
-                    p.begin.set_total_triangles(triangles.size() / 3);
-                    p.begin.set_target_reached(triangles.size() / 3 <= target);
-                    set_level_error(*p.begin.mutable_error(), rec->record, ops);
-                    levels.push_back(std::move(p));
-                    first = false;
-                }
-            }
-        } catch (const std::invalid_argument& e) {
-            error.set_code(v1::Error::NOT_FOUND);
-            error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
-        } catch (const InputError& e) {
-            error.set_code(v1::Error::INVALID_ARGUMENT);
-            error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
-        } catch (const std::exception& e) {
-            error.set_code(v1::Error::INTERNAL);
-            error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
-        }
-        metrics_.observe_job_seconds(std::chrono::duration<double>(Clock::now() - start).count());
-        asio::post(io_, [this, c, surface = params.surface, levels = std::move(levels),
-                         error = std::move(error)]() mutable {
-            const uint64_t rid = error.request_id();
-            if (!c->open() || !c->request_active(rid)) return; // gone or cancelled
-            c->end_request(rid);
-            if (error.code() != v1::Error::CODE_UNSPECIFIED) {
-                ++metrics_.request_errors;
-                return c->send(error);
-            }
-            for (size_t i = 0; i < levels.size(); ++i) {
-                BulkItem item;
-                item.request_id = rid;
-                item.surface = surface;
-                item.level = levels[i].begin.level();
-                item.begin_frame = protocol::encode_frame(levels[i].begin);
-                item.blob = std::move(levels[i].blob);
-                if (i + 1 == levels.size()) {
-                    v1::RequestDone done;
-                    done.set_request_id(rid);
-                    item.after.push_back(protocol::encode_frame(done));
-                }
-                ++metrics_.levels_sent;
-                c->send_bulk(std::move(item));
-            }
-        });
-    });
-}
-
-void Service::remember_result(const std::string& key, const ReductionParams& params) {
-    if (!known_results_.emplace(key, params).second) return;
-    known_order_.push_back(key);
-    while (known_order_.size() > kMaxRememberedResults) {
-        known_results_.erase(known_order_.front());
-        known_order_.pop_front();
-    }
 }
 
 // ----- sessions -----
@@ -454,6 +291,12 @@ void Service::leave(Connection& c, const std::string& name) {
     c.sessions().erase(joined);
     bool leader_changed = false;
     Session* s = sessions_.leave(scope, c.id(), &leader_changed);
+    if (!s) { // the last member left: nobody waits for the session's mesh any more
+        if (auto k = session_keys_.find(scope); k != session_keys_.end()) {
+            computations_.leave(k->second, Computations::session_waiter(scope));
+            session_keys_.erase(k);
+        }
+    }
     spdlog::info("client {} left session \"{}\"", c.id(), name);
     if (s) broadcast(*s, leader_changed ? "leader-left" : "left", c.id());
 }
@@ -470,7 +313,7 @@ void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState
     if (!v.surface().empty() && !store_.share(v.surface(), c->scopes(), s->scope))
         return c->send_error(v1::Error::NOT_FOUND, "no surface " + v.surface());
     if (!v.surface().empty())
-        asio::post(compute(), [this, id = v.surface()] {
+        compute(c->id(), [this, id = v.surface()] {
             try {
                 store_.persist_scopes(id);
             } catch (const std::exception& e) {
@@ -481,98 +324,41 @@ void Service::set_state(std::shared_ptr<Connection> c, const v1::SetSessionState
         return c->send_error(v1::Error::INVALID_ARGUMENT,
                              "a field name of " + std::to_string(v.field().size()) +
                                  " bytes (at most " + std::to_string(kMaxNameBytes) + ")");
-    if (change.set_alpha() && !(v.alpha() >= 0 && v.alpha() <= 1))
-        return c->send_error(v1::Error::INVALID_ARGUMENT, "alpha must be in [0, 1]");
     if (v.keep() != 0 && !(v.keep() > 0 && v.keep() <= 1))
         return c->send_error(v1::Error::INVALID_ARGUMENT, "keep must be in (0, 1]");
-    v1::View before = s->view;
-    if (!v.surface().empty()) s->view.set_surface(v.surface());
-    if (change.set_alpha()) s->view.set_alpha(v.alpha());
-    if (v.keep() != 0) s->view.set_keep(v.keep());
-    if (!v.field().empty()) s->view.set_field(v.field());
-    if (v.strategy() != v1::STRATEGY_UNSPECIFIED) s->view.set_strategy(v.strategy());
-    if (v.placement() != v1::PLACEMENT_UNSPECIFIED) s->view.set_placement(v.placement());
+    v1::View after = s->view;
+    if (!v.surface().empty()) after.set_surface(v.surface());
+    if (change.set_alpha()) {
+        after.set_alpha(v.alpha());
+        if (v.has_alpha_exact())
+            after.set_alpha_exact(v.alpha_exact());
+        else
+            after.clear_alpha_exact();
+    }
+    if (v.keep() != 0) after.set_keep(v.keep());
+    if (!v.field().empty()) after.set_field(v.field());
+    if (v.strategy() != v1::STRATEGY_UNSPECIFIED) after.set_strategy(v.strategy());
+    if (v.placement() != v1::PLACEMENT_UNSPECIFIED) after.set_placement(v.placement());
+    Options options;
+    try {
+        options = protocol::options_from(after);
+    } catch (const InputError& e) {
+        return c->send_error(v1::Error::INVALID_ARGUMENT, e.what());
+    }
+    const bool mesh_changed =
+        s->view.surface() != after.surface() || s->view.keep() != after.keep() ||
+        protocol::result_key(after.surface(), options) !=
+            protocol::result_key(s->view.surface(), protocol::options_from(s->view));
+    s->view = std::move(after);
     s->leader = c->id();
     ++s->version;
     broadcast(*s, "view", c->id());
-    const bool mesh_changed =
-        before.surface() != s->view.surface() || before.alpha() != s->view.alpha() ||
-        before.keep() != s->view.keep() || before.strategy() != s->view.strategy() ||
-        before.placement() != s->view.placement();
     if (mesh_changed) ++s->view_version;
     if (mesh_changed && !s->view.surface().empty()) {
         std::vector<uint64_t> all;
         for (const v1::Member& m : s->members) all.push_back(m.client_id());
         send_session_mesh(*s, all);
     }
-}
-
-void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets) {
-    ReductionParams params;
-    params.surface = s.view.surface();
-    params.alpha = s.view.alpha();
-    params.strategy = strategy_of(s.view.strategy());
-    params.placement = placement_of(s.view.placement());
-    const std::string key = result_key(params);
-    remember_result(key, params);
-    const float keep = s.view.keep() > 0 ? s.view.keep() : 1.0f;
-    const std::string name = s.name, scope = s.scope;
-    const uint64_t version = s.view_version;
-    // Encode only what the members asked for.
-    bool need_raw = false, need_meshopt = false;
-    for (uint64_t id : targets)
-        if (auto c = find(id))
-            (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
-    asio::post(compute(), [this, params, key, keep, name, scope, version, need_raw, need_meshopt,
-                           targets = std::move(targets)] {
-        std::shared_ptr<const EncodedLevel> raw, meshopt;
-        std::string failure;
-        double seconds = 0;
-        v1::LevelError error;
-        try {
-            bool computed = false;
-            auto rec = reductions_.record(params, key, &computed);
-            seconds = computed ? rec->seconds : 0;
-            if (need_raw) raw = reductions_.level(*rec, key, keep, v1::RAW);
-            if (need_meshopt) meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT);
-            set_level_error(error, rec->record,
-                            rec->record.operations_for(target_triangles(rec->record, keep)));
-        } catch (const std::exception& e) {
-            failure = e.what();
-        }
-        asio::post(io_, [=, this] {
-            Session* now = sessions_.find(scope);
-            if (!now || now->view_version != version) return; // superseded by a newer view
-            for (uint64_t id : targets) {
-                auto c = find(id);
-                if (!c || !now->has(id)) continue;
-                if (!failure.empty()) {
-                    c->send_error(v1::Error::INTERNAL, "session \"" + name + "\": " + failure);
-                    continue;
-                }
-                const auto& level = c->has_capability("meshopt-codec") ? meshopt : raw;
-                if (!level) continue; // connected after the mesh was asked for
-                c->drop_unstarted([&](const BulkItem& item) { return item.session == name; });
-                v1::MeshBegin begin;
-                begin.set_session(name);
-                begin.set_keep(keep);
-                begin.set_kind(v1::MeshBegin::FULL);
-                protocol::set_layout(begin, level->blob.layout);
-                begin.set_total_triangles(level->triangles);
-                begin.set_target_reached(level->target_reached);
-                begin.set_seconds(seconds);
-                begin.set_result(key);
-                begin.set_surface(params.surface);
-                *begin.mutable_error() = error;
-                BulkItem item;
-                item.session = name;
-                item.begin_frame = protocol::encode_frame(begin);
-                item.blob = std::shared_ptr<const std::string>(level, &level->blob.bytes);
-                ++metrics_.levels_sent;
-                c->send_bulk(std::move(item));
-            }
-        });
-    });
 }
 
 } // namespace ddsimp::server

@@ -1,13 +1,16 @@
 // The state every connection shares: stored surfaces, the result cache, sessions, metrics and
 // the compute pool. Its methods run on the network thread (one io_context thread); heavy work
-// (validation, storing, simplification, encoding) is posted to the pool and its results posted
-// back, so the shared state needs no locks beyond those of the store and cache.
+// (validation, storing, simplification, encoding) goes to the scheduler's pool and its results
+// are posted back, so the shared state needs no locks beyond those of the store and cache.
+// Requests and session meshes: service_requests.cpp.
 #pragma once
 
+#include "computations.h"
 #include "config.h"
 #include "connection.h"
 #include "metrics.h"
 #include "reductions.h"
+#include "scheduler.h"
 #include "sessions.h"
 #include "surface_store.h"
 
@@ -47,6 +50,9 @@ public:
     // bytes' share of the upload budget once they are stored or refused.
     void upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes);
     void request(std::shared_ptr<Connection> c, const v1::Request& request);
+    // The client cancelled request `request_id` (it has ended it): its computation stops unless
+    // another request or session waits for it.
+    void cancel_request(Connection& c, uint64_t request_id);
     void list_surfaces(Connection& c);
     void join(std::shared_ptr<Connection> c, const v1::JoinSession& join);
     void leave(Connection& c, const std::string& name);
@@ -62,9 +68,35 @@ private:
     void send_session_mesh(const Session& s, std::vector<uint64_t> targets);
     std::shared_ptr<Connection> find(uint64_t id);
     void load_sample();
-    // Where heavy work runs: the compute pool, or the network thread itself when
-    // config.threads is 0 (one thread, a deterministic order: the fuzz targets drive it so).
-    boost::asio::any_io_executor compute();
+    // Queues heavy work of `client` on the scheduler's pool (or the network thread itself when
+    // config.threads is 0: one thread, a deterministic order, as the fuzz targets drive it);
+    // false if the client has too many jobs waiting.
+    bool compute(uint64_t client, Scheduler::Work work);
+    // Where previews are cut: their own thread, so that they never wait behind computations.
+    boost::asio::any_io_executor preview_executor();
+
+    // requests (service_requests.cpp)
+    struct RunningRequest {
+        std::string key;
+        std::string surface;
+    };
+    struct RequestJob;
+    struct PreparedLevel;
+    // On the pool: the request's record (as deep as its coarsest level), its levels.
+    void run_request(const std::shared_ptr<RequestJob>& job);
+    std::vector<PreparedLevel> prepare_levels(const RequestJob& job, const ComputedRecord& rec,
+                                              const std::vector<size_t>& indices, bool computed);
+    // Queues `levels` on the network thread; `last`: the request is complete after them (or
+    // ended by `error`).
+    void deliver(const std::shared_ptr<RequestJob>& job, std::vector<PreparedLevel> levels,
+                 v1::Error error, bool last);
+    // Cuts a preview of the request's finest level on the preview thread and queues it, unless
+    // an exact level went out first.
+    void send_preview(const std::shared_ptr<RequestJob>& job);
+    // Ends the bookkeeping of a running request; its computation stops if nobody else waits.
+    void forget_request(uint64_t client, uint64_t request_id);
+    // A request with `supersede` set ends the client's older requests for the same surface.
+    void supersede(Connection& c, uint64_t request_id, const std::string& surface);
 
     boost::asio::io_context& io_;
     Config config_;
@@ -73,7 +105,11 @@ private:
     ResultCache cache_;
     Reductions reductions_;
     Sessions sessions_;
-    std::optional<boost::asio::thread_pool> pool_; // none when config.threads is 0
+    Scheduler scheduler_;
+    std::optional<boost::asio::thread_pool> preview_pool_; // none when config.threads is 0
+    Computations computations_;
+    std::map<std::pair<uint64_t, uint64_t>, RunningRequest> running_; // (client, request id)
+    std::map<std::string, std::string> session_keys_; // session scope -> the key it waits for
     std::map<uint64_t, std::weak_ptr<Connection>> connections_;
     // Result key -> what it computes, for resuming by key; the oldest are forgotten first.
     void remember_result(const std::string& key, const ReductionParams& params);

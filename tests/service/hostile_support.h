@@ -7,6 +7,8 @@
 #include "server_harness.h"
 #include "test_surfaces.h"
 
+#include "ddsimp/protocol/reduction_options.h"
+
 #include <poll.h>
 #include <sys/socket.h>
 
@@ -31,13 +33,12 @@ inline v1::Request level_request(const std::string& surface, std::vector<float> 
     return r;
 }
 
-// What `ddsimp simplify --alpha A --keep K --placement midpoint` makes of the surface: what a
-// level must equal (midpoint: the protocol's default placement, which the server uses).
+// What `ddsimp simplify --alpha A --keep K` makes of the surface: what a level must equal (the
+// request's floats read as the server reads them, the library's defaults for the rest).
 inline Surface offline_level(const Surface& in, float alpha, float keep) {
     Options o;
-    o.alpha = alpha;
-    o.keep_fraction = keep;
-    o.placement = Placement::Midpoint;
+    o.alpha = protocol::from_wire(alpha);
+    o.keep_fraction = protocol::from_wire(keep);
     return simplify(in, o).surface;
 }
 

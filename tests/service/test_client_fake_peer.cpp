@@ -105,7 +105,8 @@ TEST(ClientFakePeer, HelloOffersCapabilitiesAndOnlyAgreedOnesAreUsed) {
     EXPECT_EQ(hello.kind(), v1::VR);
     EXPECT_EQ(
         std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
-        (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys"}));
+        (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys",
+                                  "previews"}));
 }
 
 TEST(ClientFakePeer, TokenIsSentWhenAskedAndARefusalCarriesTheServersMessage) {

@@ -252,9 +252,8 @@ TEST(IdleTimeout, AClientWaitingForItsOwnRequestIsNotIdle) {
     constexpr float kKeep = 0.001f;
     const Surface input = with_test_fields(icosphere(6)); // 81920 triangles
     Options options;
-    options.alpha = 0.3f;
+    options.alpha = 0.3; // what the request's 0.3f means to the server
     options.keep_fraction = kKeep;
-    options.placement = Placement::Midpoint;
     options.strategy = Strategy::VertexRemoval;
     const auto start = std::chrono::steady_clock::now();
     const Surface expected = simplify(input, options).surface;

@@ -1,10 +1,11 @@
 // ddsimp-server on loopback, driven frame by frame: round trips equal the offline library
-// exactly, levels come coarsest first, uploads and computations are deduplicated, sessions
+// exactly, levels come in the documented order, uploads and computations are deduplicated, sessions
 // broadcast and hand over the lead, bad frames and wrong tokens end only their connection,
 // acknowledged surfaces survive a restart and a SIGKILL, slow readers are dropped.
 #include "server_harness.h"
 
 #include "ddsimp/protocol/content_hash.h"
+#include "ddsimp/protocol/reduction_options.h"
 #include "ddsimp/protocol/refinement.h"
 #include "mesh_comparison.h"
 #include "test_surfaces.h"
@@ -32,12 +33,10 @@ v1::Request request_for(const std::string& surface, std::vector<float> keeps, ui
 
 // The offline result for a keep fraction, as `ddsimp simplify --keep` computes it.
 Surface offline(const Surface& in, float alpha, float keep, Strategy strategy) {
-    Options o;
-    o.alpha = alpha;
+    Options o; // the library's defaults for what a request leaves unset, as the server's
+    o.alpha = protocol::from_wire(alpha); // the request's floats, read as the server reads them
     o.strategy = strategy;
-    o.keep_fraction = keep;
-    // The protocol's default placement (PLACEMENT_UNSPECIFIED), which the server uses.
-    o.placement = Placement::Midpoint;
+    o.keep_fraction = protocol::from_wire(keep);
     return simplify(in, o).surface;
 }
 
@@ -79,7 +78,8 @@ TEST_F(Server, UploadIsContentAddressedAndStoredOnce) {
     EXPECT_TRUE(second.already_stored());
 }
 
-// Every level equals the offline library's result byte for byte, in both encodings, and the
+// Every level equals the offline library's result byte for byte, in both encodings. Not cached,
+// the finest level comes first (as soon as a run has passed it), then the others; cached, the
 // coarsest comes first whatever order the request lists them in.
 TEST_F(Server, LevelsEqualTheOfflineResultCoarsestFirst) {
     RawClient c(server_->port);
@@ -103,7 +103,8 @@ TEST_F(Server, LevelsEqualTheOfflineResultCoarsestFirst) {
             if (encoding == v1::MESHOPT) rotate_to_match(got, expected);
             EXPECT_TRUE(same_bytes(got, expected)) << "keep " << l.begin.keep();
         }
-        EXPECT_EQ(order, (std::vector<float>{0.1f, 0.25f, 0.5f}));
+        EXPECT_EQ(order, encoding == v1::RAW ? (std::vector<float>{0.5f, 0.1f, 0.25f})
+                                             : (std::vector<float>{0.1f, 0.25f, 0.5f}));
         EXPECT_EQ(c.expect<v1::RequestDone>().request_id(), rid);
     }
 }
@@ -139,7 +140,7 @@ TEST_F(Server, ProgressiveRefinementsRebuildEveryLevel) {
 ProgressiveRecord offline_record(const Surface& in, float alpha, Strategy strategy,
                                  Placement placement) {
     Options o;
-    o.alpha = alpha;
+    o.alpha = protocol::from_wire(alpha);
     o.strategy = strategy;
     o.placement = placement;
     o.keep_fraction = 0;
@@ -148,8 +149,7 @@ ProgressiveRecord offline_record(const Surface& in, float alpha, Strategy strate
 
 // The error the library records for the level a keep fraction asks for.
 LevelError offline_error(const ProgressiveRecord& rec, float keep) {
-    const size_t target = size_t(std::floor(double(keep) * double(rec.triangles_in()) + 1e-9));
-    return rec.error_after(rec.operations_for(target));
+    return rec.error_after(rec.operations_for(protocol::target_for_keep(keep, rec.triangles_in())));
 }
 
 void expect_error(const v1::MeshBegin& begin, const LevelError& expected) {
@@ -174,27 +174,37 @@ TEST_F(Server, LevelsCarryTheLibrarysErrorAndLeastErrorPlacement) {
         r.set_placement(v1::LEAST_ERROR);
         r.set_progressive(progressive);
         c.send(r);
-        float last = INFINITY;
-        for (float keep : {0.05f, 0.2f, 0.5f}) {
+        std::map<float, float> geometric;
+        // Not cached (the first request): the finest first; progressive: coarsest first.
+        for (float keep : progressive ? std::vector<float>{0.05f, 0.2f, 0.5f}
+                                      : std::vector<float>{0.5f, 0.05f, 0.2f}) {
             const RawClient::Level l = c.level();
             ASSERT_EQ(l.begin.keep(), keep);
             expect_error(l.begin, offline_error(least, keep));
-            EXPECT_LE(l.begin.error().geometric(), last); // finer levels, no larger errors
-            last = l.begin.error().geometric();
+            geometric[keep] = l.begin.error().geometric();
             least_key = l.begin.result();
             if (progressive) continue;
             Surface got = protocol::decode_mesh(l.bytes, protocol::layout_of(l.begin));
             Options o;
-            o.alpha = 0.3f;
+            o.alpha = protocol::from_wire(0.3f);
             o.placement = Placement::LeastError;
-            o.keep_fraction = keep;
+            o.keep_fraction = protocol::from_wire(keep);
             EXPECT_TRUE(same_bytes(got, simplify(s, o).surface)) << "keep " << keep;
         }
-        EXPECT_GT(last, 0.0f);
+        // Finer levels, no larger errors.
+        EXPECT_LE(geometric[0.5f], geometric[0.2f]);
+        EXPECT_LE(geometric[0.2f], geometric[0.05f]);
+        EXPECT_GT(geometric[0.5f], 0.0f);
         c.expect<v1::RequestDone>();
     }
-    // The default placement is the midpoint, a different result with its own errors.
-    c.send(request_for(id, {0.05f}, 22));
+    // The default placement is the library's (least error): the same result.
+    c.send(request_for(id, {0.05f}, 23));
+    EXPECT_EQ(c.level().begin.result(), least_key);
+    c.expect<v1::RequestDone>();
+    // The midpoint is a different result with its own errors.
+    v1::Request midpoint = request_for(id, {0.05f}, 22);
+    midpoint.set_placement(v1::MIDPOINT);
+    c.send(midpoint);
     const RawClient::Level l = c.level();
     EXPECT_NE(l.begin.result(), least_key);
     expect_error(

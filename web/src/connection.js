@@ -7,8 +7,9 @@ const ErrorCode = enumValues('Error.Code');
 // The capabilities this page uses. meshopt-codec: levels arrive through meshoptimizer's codecs,
 // about 1.5-2x smaller than raw, which matters on the links a browser is usually on (see README,
 // "Is meshoptimizer's codec worth it?"); decoding is meshoptimizer's own WebAssembly decoder.
-// session-keys: a session joined with ?key= is private to those who know the key.
-const CAPABILITIES = ['meshopt-codec', 'progressive', 'sessions', 'session-keys'];
+// session-keys: a session joined with ?key= is private to those who know the key. previews: the
+// server sends a stand-in at once while it computes the exact level.
+const CAPABILITIES = ['meshopt-codec', 'progressive', 'sessions', 'session-keys', 'previews'];
 const RETRY_SECONDS = [1, 2, 4, 8, 10];
 const PING_SECONDS = 30;
 

@@ -28,7 +28,7 @@ const ui = {
   status: $('status'), notice: $('notice'), surface: $('surface'), field: $('field'),
   alpha: $('alpha'), alphaValue: $('alpha-value'), level: $('level'), levelValue: $('level-value'),
   strategy: $('strategy'), placement: $('placement'), triangles: $('triangles'),
-  trianglesOf: $('triangles-of'), levelError: $('level-error'),
+  trianglesOf: $('triangles-of'), levelError: $('level-error'), exactness: $('exactness'),
   reduction: $('reduction'), time: $('time'), levels: $('levels'), session: $('session'),
   progress: $('progress'), progressText: $('progress-text'), legend: $('legend'),
 };
@@ -37,7 +37,8 @@ const state = {
   surfaces: [],
   // Placement: the library's default (least error); the protocol's unspecified is the midpoint.
   view: { surface: params.get('surface') ?? '', alpha: 0.5, keep: 0.5, field: '',
-    strategy: Strategy.EDGE_COLLAPSE, placement: Placement.LEAST_ERROR },
+    strategy: Strategy.EDGE_COLLAPSE, placement: Placement.LEAST_ERROR }, // until Welcome.defaults
+  defaultsLearned: false,
   mesh: new MeshState(),
   meshSurface: '', // the surface the mesh shown belongs to
   meshBegin: null, // the MeshBegin of the last level applied
@@ -63,6 +64,7 @@ const connection = new ServerConnection(wsUrl, {
     onStatus: showStatus,
     onReady: (welcome) => {
       state.clientId = welcome.client_id;
+      learnDefaults(welcome.defaults);
       state.joined = false; // a new connection is in no session yet
       connection.send('ListSurfaces', {});
     },
@@ -70,6 +72,17 @@ const connection = new ServerConnection(wsUrl, {
   },
 });
 decoderReady.then(() => connection.connect());
+
+// The options the server fills in for what a request leaves unset (the library's defaults): the
+// controls start from them, once, before this page asks for anything.
+function learnDefaults(d) {
+  if (!d || state.defaultsLearned) return;
+  state.defaultsLearned = true;
+  state.view.alpha = d.alpha;
+  if (d.strategy) state.view.strategy = d.strategy;
+  if (d.placement) state.view.placement = d.placement;
+  showControls();
+}
 
 // ----- status and progress -----
 
@@ -171,7 +184,8 @@ function onSessionState(m) {
     // A new session: it shows what this page would show.
     connection.send('SetSessionState', {
       name: sessionName, set_alpha: true,
-      view: { surface: state.view.surface, alpha: state.view.alpha, keep: state.view.keep,
+      view: { surface: state.view.surface, alpha: state.view.alpha,
+        alpha_exact: state.view.alpha, keep: state.view.keep,
         field: state.view.field, strategy: state.view.strategy,
         placement: state.view.placement },
     });
@@ -190,10 +204,10 @@ function onSessionState(m) {
   }
   const before = { ...state.view };
   state.view.surface = v.surface;
-  state.view.alpha = fromFloat32(v.alpha);
+  state.view.alpha = v.alpha_exact ?? fromFloat32(v.alpha);
   if (v.keep > 0) state.view.keep = fromFloat32(v.keep);
   if (v.strategy) state.view.strategy = v.strategy;
-  state.view.placement = v.placement || Placement.MIDPOINT; // what the server uses for unset
+  if (v.placement) state.view.placement = v.placement;
   if (before.surface !== v.surface) fillFields();
   if (v.field && surfaceInfo(v.surface).fields.some((f) => f.name === v.field))
     state.view.field = v.field;
@@ -273,6 +287,7 @@ function onMeshEnd(m) {
   }
   const refinement = begin.kind === enumValues('MeshBegin.Kind').REFINEMENT;
   if (refinement && (state.request?.applied ?? 0) === 0) return; // its base never arrived
+  if (begin.preview && state.request?.applied) return; // an exact level is shown already
   try {
     const live = state.mesh.apply(begin, level.bytes);
     if (live !== begin.total_triangles)
@@ -283,7 +298,7 @@ function onMeshEnd(m) {
     notice(`The level could not be shown: ${e.message}`);
     return;
   }
-  if (state.request) ++state.request.applied;
+  if (state.request && !begin.preview) ++state.request.applied;
   // The server says which surface this is; a server older than MeshBegin.surface does not, and
   // then it is the one asked for, or the session's.
   state.meshSurface = begin.surface ||
@@ -298,9 +313,19 @@ function showMesh() {
   const begin = state.meshBegin;
   state.meshPending = false;
   display(state.meshSurface, begin);
+  showExactness(begin);
+  if (begin.preview) return; // the exact level follows
   const lastLevel = sessionName || state.request.applied === state.request.levels;
   if (lastLevel) finishWaiting(begin);
   else showTransfer0();
+}
+
+// A preview (the nearest level the server had ready) is labelled until the exact level replaces it.
+function showExactness(begin) {
+  ui.exactness.dataset.preview = String(Boolean(begin.preview));
+  ui.exactness.textContent = begin.preview ?
+    `a preview (${begin.total_triangles.toLocaleString('en')} triangles, the nearest level ` +
+      'the server had ready); the exact level follows' : 'the exact level';
 }
 
 function showTransfer0() {
@@ -345,7 +370,8 @@ function requestMesh() {
     applied: 0, done: false };
   state.incoming = null;
   connection.send('Request', {
-    request_id: state.request.id, surface: info.surface, alpha: state.view.alpha, keep,
+    request_id: state.request.id, surface: info.surface, alpha: state.view.alpha,
+    alpha_exact: state.view.alpha, supersede: true, keep,
     strategy: state.view.strategy, placement: state.view.placement, progressive: true,
     encoding: Encoding.MESHOPT,
   });
@@ -471,7 +497,7 @@ function showControls() {
   ui.level.value = String(state.view.keep);
   ui.field.value = state.view.field;
   ui.strategy.value = String(state.view.strategy || Strategy.EDGE_COLLAPSE);
-  ui.placement.value = String(state.view.placement || Placement.MIDPOINT);
+  ui.placement.value = String(state.view.placement || Placement.LEAST_ERROR);
   ui.placement.disabled = Number(ui.strategy.value) === Strategy.VERTEX_REMOVAL;
   showControlValues();
 }
@@ -486,7 +512,8 @@ function showControlValues() {
 function change(part) {
   Object.assign(state.view, part);
   if (sessionName) {
-    connection.send('SetSessionState', { name: sessionName, view: part, set_alpha: 'alpha' in part });
+    const view = 'alpha' in part ? { ...part, alpha_exact: part.alpha } : part;
+    connection.send('SetSessionState', { name: sessionName, view, set_alpha: 'alpha' in part });
     if (!('field' in part)) startWaiting();
   }
   if ('field' in part) recolour();

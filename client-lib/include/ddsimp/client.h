@@ -92,7 +92,7 @@ struct ConnectOptions {
     ClientKind kind = ClientKind::Tool;
     // Offered in Hello; only those the server also has are used (see Client::capabilities()).
     std::vector<std::string> capabilities = {"meshopt-codec", "progressive", "sessions",
-                                             "session-keys"};
+                                             "session-keys", "previews"};
 
     // Limit for connecting and the handshake, and for the blocking calls that wait for a small
     // answer (list_surfaces, join_session, set_view). Uploads and levels wait as long as the
@@ -132,23 +132,25 @@ struct UploadResult {
 
 enum class Encoding { Raw, Meshopt };
 
-// One reduction request: a surface (or the key of an earlier result) and the levels wanted.
-struct LevelRequest {
+// One reduction request: a surface (or the key of an earlier result), the library's options
+// for it, and the levels wanted. The options are ddsimp::Options themselves (alpha, strategy,
+// placement, terms, gradient_fields, feature_angle travel; the levels come from `keep`, not
+// keep_fraction or target_triangles), so a request gives the bytes ddsimp::simplify gives with
+// the same options.
+struct LevelRequest : Options {
     std::string surface; // surface id
-    // Instead of surface and the options below: the key of an earlier result (Level::result),
-    // to resume after a reconnect. Only keep, progressive and encoding are used with it.
+    // Instead of surface and the options: the key of an earlier result (Level::result), to
+    // resume after a reconnect. Only keep, progressive and encoding are used with it.
     std::string result;
-    double alpha = 0.5;
     std::vector<double> keep; // fractions of the triangles, each in (0, 1]
-    Strategy strategy = Strategy::EdgeCollapse;
-    Placement placement = Placement::Midpoint;
-    std::vector<std::string> gradient_fields; // empty: all fields
-    double feature_angle = 180;               // degrees; 180: no feature edges
     // The coarsest level whole, then each finer one as a refinement of the one before (used only
     // if the server has the "progressive" capability).
     bool progressive = false;
     // Meshopt is used only if the server has the "meshopt-codec" capability.
     Encoding encoding = Encoding::Meshopt;
+    // This request replaces this client's older requests for the same surface: they end with
+    // ClientError Cancelled and the server stops computing them unless another client waits.
+    bool supersede = false;
 };
 
 // One level as it arrived.
@@ -175,6 +177,9 @@ struct Level {
     // How far the level is from the surface (see LevelError: geometric in bounding-box
     // diagonals, data in field ranges); empty from a server that does not send it.
     std::optional<LevelError> error;
+    // A stand-in the server sent at once while it computes the exact level (the nearest level
+    // it had ready); the exact level with the same index follows. Never a refinement.
+    bool preview = false;
 };
 
 // Called for every level of a request as it arrives (coarsest first), on the network thread.

@@ -1,0 +1,241 @@
+// The service answers at once (libddsimp-client against the real ddsimp-server): a preview
+// marked as such and then replaced by the exact level; the finest level leaving before the run
+// to the coarsest ends; cancellation (by the client, by a superseding request) counted and the
+// computation stopped, unless another client still waits for it; fair order between clients.
+#include "mesh_comparison.h"
+#include "server_harness.h"
+#include "test_surfaces.h"
+
+#include "ddsimp/client.h"
+
+#include <mutex>
+#include <thread>
+
+namespace ddsimp {
+namespace {
+
+using test::ServerProcess;
+
+ConnectOptions local(uint16_t port) {
+    ConnectOptions o;
+    o.host = "127.0.0.1";
+    o.port = port;
+    o.timeout = std::chrono::milliseconds(120000);
+    return o;
+}
+
+Surface sphere(int level) {
+    return test::with_test_fields(test::icosphere(level));
+}
+
+Surface offline(const Surface& input, double alpha, double keep) {
+    Options o;
+    o.alpha = alpha;
+    o.keep_fraction = keep;
+    return simplify(input, o).surface;
+}
+
+// Waits (polling /metrics) until `name` reads `value`; false after two minutes.
+bool metric_reaches(uint16_t http_port, const std::string& name, double value) {
+    for (int i = 0; i < 12000; ++i) {
+        if (test::metric(http_port, name) == value) return true;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+}
+
+ErrorCode error_of(const std::shared_future<Level>& level) {
+    try {
+        level.get();
+    } catch (const ClientError& e) {
+        return e.code();
+    }
+    return ErrorCode::Internal;
+}
+
+class AnswersAtOnce : public ::testing::Test {
+protected:
+    explicit AnswersAtOnce(std::vector<std::string> flags = {})
+        : dir_(test::temp_dir(name())), server_(dir_, with_sample_off(std::move(flags))) {}
+    ~AnswersAtOnce() override {
+        server_.stop();
+        std::filesystem::remove_all(dir_);
+    }
+    static std::vector<std::string> with_sample_off(std::vector<std::string> flags) {
+        flags.insert(flags.end(), {"--sample", ""});
+        return flags;
+    }
+    static std::string name() {
+        return std::string("at-once-") +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    }
+    std::filesystem::path dir_;
+    ServerProcess server_;
+};
+
+TEST_F(AnswersAtOnce, APreviewIsMarkedAndThenReplacedByTheExactLevel) {
+    const Surface input = sphere(6);
+    Client client;
+    client.connect(local(server_.port));
+    EXPECT_TRUE(client.has_capability("previews"));
+    LevelRequest request;
+    request.surface = client.upload(input, "sphere").surface;
+    request.alpha = 0.3;
+    request.keep = {0.1};
+    request.encoding = Encoding::Raw;
+    std::vector<Level> seen;
+    PendingRequest pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
+    pending.done.get();
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_TRUE(seen[0].preview); // a vertex clustering: nothing of this surface was ready
+    EXPECT_GT(seen[0].triangles, 0u);
+    EXPECT_FALSE(seen[1].preview);
+    const Level exact = pending.levels[0].get();
+    EXPECT_FALSE(exact.preview); // the future holds the exact level, never the preview
+    EXPECT_TRUE(test::same_bytes(exact.mesh, offline(input, 0.3, 0.1)));
+
+    // Another alpha: the preview is the same level of the nearest ready record (alpha 0.3).
+    request.alpha = 0.35;
+    seen.clear();
+    pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
+    pending.done.get();
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_TRUE(seen[0].preview);
+    EXPECT_TRUE(test::same_bytes(seen[0].mesh, offline(input, 0.3, 0.1)));
+    EXPECT_TRUE(test::same_bytes(pending.levels[0].get().mesh, offline(input, 0.35, 0.1)));
+
+    // Ready now: no preview.
+    seen.clear();
+    client.request(request, [&](const Level& l) { seen.push_back(l); }).done.get();
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_FALSE(seen[0].preview);
+    EXPECT_GE(test::metric(server_.http_port, "ddsimp_previews_sent_total"), 2);
+}
+
+TEST_F(AnswersAtOnce, TheFinestLevelLeavesBeforeTheRunToTheCoarsestEnds) {
+    const Surface input = sphere(6);
+    Client client;
+    client.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = client.upload(input, "sphere").surface;
+    request.alpha = 0.6;
+    request.keep = {0.05, 0.5};
+    request.encoding = Encoding::Raw;
+    std::vector<uint32_t> exact;
+    auto arrived = [&](const Level& l) {
+        if (!l.preview) exact.push_back(l.index);
+    };
+    PendingRequest pending = client.request(request, arrived);
+    pending.done.get();
+    // Not cached: the finest (0.5) as soon as a run has passed it, then the coarsest.
+    EXPECT_EQ(exact, (std::vector<uint32_t>{1, 0}));
+    for (size_t i = 0; i < request.keep.size(); ++i)
+        EXPECT_TRUE(
+            test::same_bytes(pending.levels[i].get().mesh, offline(input, 0.6, request.keep[i])))
+            << i;
+    // All ready: coarsest first.
+    exact.clear();
+    client.request(request, arrived).done.get();
+    EXPECT_EQ(exact, (std::vector<uint32_t>{0, 1}));
+}
+
+TEST_F(AnswersAtOnce, ACancelledRequestStopsItsComputation) {
+    Client client;
+    client.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = client.upload(sphere(6), "sphere").surface;
+    request.keep = {0.01};
+    PendingRequest pending = client.request(request);
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 1));
+    client.cancel(pending.id);
+    EXPECT_EQ(error_of(pending.levels[0]), ErrorCode::Cancelled);
+    EXPECT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 0));
+    EXPECT_EQ(test::metric(server_.http_port, "ddsimp_reductions_cancelled_total"), 1);
+}
+
+TEST_F(AnswersAtOnce, ASupersedingRequestCancelsTheOlderOne) {
+    Client client;
+    client.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = client.upload(sphere(6), "sphere").surface;
+    request.keep = {0.01};
+    request.alpha = 0.2;
+    request.supersede = true;
+    PendingRequest older = client.request(request);
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 1));
+    request.alpha = 0.8;
+    request.keep = {0.9};
+    PendingRequest newer = client.request(request);
+    EXPECT_EQ(error_of(older.levels[0]), ErrorCode::Cancelled);
+    EXPECT_FALSE(newer.levels[0].get().preview);
+    EXPECT_EQ(test::metric(server_.http_port, "ddsimp_reductions_cancelled_total"), 1);
+}
+
+TEST_F(AnswersAtOnce, AComputationAnotherClientWaitsForGoesOn) {
+    const Surface input = sphere(6);
+    Client first, second;
+    first.connect(local(server_.port));
+    second.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = first.upload(input, "sphere").surface;
+    request.keep = {0.05};
+    request.encoding = Encoding::Raw;
+    PendingRequest a = first.request(request);
+    PendingRequest b = second.request(request);
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 1));
+    first.cancel(a.id);
+    EXPECT_EQ(error_of(a.levels[0]), ErrorCode::Cancelled);
+    EXPECT_TRUE(test::same_bytes(b.levels[0].get().mesh, offline(input, 0.5, 0.05)));
+    EXPECT_EQ(test::metric(server_.http_port, "ddsimp_reductions_cancelled_total"), 0);
+}
+
+class FairCompute : public AnswersAtOnce {
+protected:
+    FairCompute() : AnswersAtOnce({"--threads", "1"}) {}
+};
+
+// One worker: a client's burst of requests waits its turn behind another client's one request,
+// which runs after at most the job already running.
+TEST_F(FairCompute, AnotherClientsRequestRunsNextAfterTheJobRunning) {
+    const Surface input = sphere(6);
+    Client busy, other;
+    busy.connect(local(server_.port));
+    other.connect(local(server_.port));
+    const std::string surface = busy.upload(input, "sphere").surface;
+    std::mutex mutex;
+    std::vector<std::string> finished;
+    std::promise<void> busy_started;
+    bool started = false;
+    std::vector<PendingRequest> burst;
+    for (int i = 0; i < 4; ++i) {
+        LevelRequest request;
+        request.surface = surface;
+        request.alpha = 0.1 * (i + 1);
+        request.keep = {0.05};
+        burst.push_back(busy.request(request, [&, i](const Level& l) {
+            std::lock_guard lock(mutex);
+            if (!started) started = true, busy_started.set_value();
+            if (!l.preview) finished.push_back("busy " + std::to_string(i));
+        }));
+    }
+    busy_started.get_future().wait(); // the server has read the burst's first request
+    LevelRequest mine;
+    mine.surface = surface;
+    mine.alpha = 0.95;
+    mine.keep = {0.05};
+    other
+        .request(mine,
+                 [&](const Level& l) {
+                     std::lock_guard lock(mutex);
+                     if (!l.preview) finished.push_back("other");
+                 })
+        .done.get();
+    for (PendingRequest& p : burst) p.done.get();
+    ASSERT_EQ(finished.size(), 5u);
+    const size_t position =
+        size_t(std::find(finished.begin(), finished.end(), "other") - finished.begin());
+    EXPECT_LE(position, 2u) << "finished " << position << "th of 5";
+}
+
+} // namespace
+} // namespace ddsimp

@@ -1,0 +1,104 @@
+// The same request made locally (ddsimp::simplify) and remotely (libddsimp-client through the
+// real ddsimp-server) gives identical bytes: both strategies, every placement, and alpha values a
+// float cannot hold exactly, with the library's defaults for everything a request leaves unset.
+#include "mesh_comparison.h"
+#include "server_harness.h"
+#include "test_surfaces.h"
+
+#include "ddsimp/client.h"
+
+namespace ddsimp {
+namespace {
+
+struct Case {
+    Strategy strategy;
+    Placement placement;
+    double alpha;
+};
+
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+    const Case& c = info.param;
+    std::string name = c.strategy == Strategy::EdgeCollapse ? "Edge" : "Vertex";
+    name += c.placement == Placement::LeastError ? "LeastError"
+            : c.placement == Placement::Midpoint ? "Midpoint"
+                                                 : "Volume";
+    return name + "Alpha" + std::to_string(int(c.alpha * 10 + 0.5));
+}
+
+std::vector<Case> all_cases() {
+    std::vector<Case> out;
+    for (Strategy s : {Strategy::EdgeCollapse, Strategy::VertexRemoval})
+        for (Placement p :
+             {Placement::LeastError, Placement::Midpoint, Placement::VolumePreserving})
+            for (double alpha : {0.3, 0.7}) out.push_back({s, p, alpha});
+    return out;
+}
+
+class SameBytes : public ::testing::TestWithParam<Case> {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = new std::filesystem::path(test::temp_dir("same-bytes"));
+        server_ = new test::ServerProcess(*dir_, {"--sample", ""});
+        client_ = new Client;
+        ConnectOptions o;
+        o.host = "127.0.0.1";
+        o.port = server_->port;
+        o.timeout = std::chrono::milliseconds(60000);
+        client_->connect(o);
+        surface_ = new std::string(client_->upload(input(), "icosphere").surface);
+    }
+    static void TearDownTestSuite() {
+        delete client_;
+        server_->stop();
+        delete server_;
+        std::filesystem::remove_all(*dir_);
+        delete dir_;
+        delete surface_;
+    }
+    // 5120 triangles with a scalar and a vector field.
+    static Surface input() { return test::with_test_fields(test::icosphere(4)); }
+
+    static std::filesystem::path* dir_;
+    static test::ServerProcess* server_;
+    static Client* client_;
+    static std::string* surface_;
+};
+std::filesystem::path* SameBytes::dir_ = nullptr;
+test::ServerProcess* SameBytes::server_ = nullptr;
+Client* SameBytes::client_ = nullptr;
+std::string* SameBytes::surface_ = nullptr;
+
+INSTANTIATE_TEST_SUITE_P(All, SameBytes, ::testing::ValuesIn(all_cases()), case_name);
+
+TEST_P(SameBytes, RemoteLevelEqualsTheLibrarysResult) {
+    const Case c = GetParam();
+    LevelRequest request;
+    request.surface = *surface_;
+    request.alpha = c.alpha;
+    request.strategy = c.strategy;
+    request.placement = c.placement;
+    request.keep = {0.1};
+    request.encoding = Encoding::Raw;
+    const Level level = client_->request_levels(request).at(0);
+
+    Options local = request; // the request's options, as the library takes them
+    local.keep_fraction = 0.1;
+    const Surface expected = simplify(input(), local).surface;
+    EXPECT_EQ(level.triangles, expected.triangle_count());
+    EXPECT_TRUE(test::same_bytes(level.mesh, expected));
+}
+
+// What a request leaves unset is what the library leaves unset.
+TEST_F(SameBytes, DefaultsAreTheLibrarys) {
+    LevelRequest request;
+    request.surface = *surface_;
+    request.keep = {0.25};
+    request.encoding = Encoding::Raw;
+    const Level level = client_->request_levels(request).at(0);
+    Options local;
+    local.keep_fraction = 0.25;
+    EXPECT_TRUE(test::same_bytes(level.mesh, simplify(input(), local).surface));
+}
+
+} // namespace
+} // namespace ddsimp
