@@ -13,6 +13,7 @@ packages=(
     iproute2 procps  # the Slurm job finds free ports with ss; its test stops the server with pkill
     clang libclang-rt-14-dev llvm  # tests/fuzz/run.sh: libFuzzer and llvm-symbolizer
     python3-matplotlib python3-vtk9 xvfb xauth
+    pybind11-dev python3-dev python3-numpy python3-pytest  # python/: the ddsimp package and its tests
     chromium  # tests/web: the browser renderer's end-to-end tests (headless)
 )
 
