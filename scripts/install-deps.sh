@@ -14,6 +14,7 @@ packages=(
     clang libclang-rt-14-dev llvm  # tests/fuzz/run.sh: libFuzzer and llvm-symbolizer
     python3-matplotlib python3-vtk9 xvfb xauth
     pybind11-dev python3-dev python3-numpy python3-pytest  # python/: the ddsimp package and its tests
+    paraview-dev  # paraview/: the plugin (ParaView 5.11 with its own VTK)
     chromium  # tests/web: the browser renderer's end-to-end tests (headless)
 )
 
@@ -25,10 +26,23 @@ done
 # (NodeSource's nodejs bundles npm and conflicts with Debian's npm package).
 command -v node >/dev/null || missing+=(nodejs)
 command -v npm >/dev/null || missing+=(npm)
-[[ ${#missing[@]} -eq 0 ]] && exit 0
-
-echo "installing: ${missing[*]}"
 sudo=""
 [[ $(id -u) -ne 0 ]] && sudo="sudo"
-$sudo apt-get update -q
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+if [[ ${#missing[@]} -gt 0 ]]; then
+    echo "installing: ${missing[*]}"
+    $sudo apt-get update -q
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# pvpython, for the ParaView plugin's tests, is in python3-paraview, which conflicts with
+# python3-vtk9 (libvtk9-dev needs it): the package of the installed ParaView's version is
+# unpacked beside the system instead (paraview/tests/CMakeLists.txt looks there).
+pvpython_root=/opt/ddsimp/python3-paraview
+if [[ ! -x $pvpython_root/usr/bin/pvpython ]] && ! command -v pvpython >/dev/null; then
+    version=$(dpkg-query -W -f='${Version}' paraview)
+    download=$(mktemp -d)
+    (cd "$download" && apt-get download -q "python3-paraview=$version")
+    $sudo mkdir -p "$pvpython_root"
+    $sudo dpkg-deb -x "$download"/python3-paraview_*.deb "$pvpython_root"
+    rm -rf "$download"
+fi

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Install what is missing, build everything, run every test (ctest): as released (build/release),
-# then the same suite under AddressSanitizer + UBSan (the asan preset, build/asan). This is what
-# CI runs (.ci/run).
-#   scripts/test.sh --release-only   only the release build and its tests (half the time)
+# the ParaView plugin (the paraview preset, build/paraview: it builds alone against ParaView's own
+# VTK), then the release suite under AddressSanitizer + UBSan (the asan preset, build/asan). This
+# is what CI runs (.ci/run).
+#   scripts/test.sh --release-only   the release build, the plugin and their tests (no ASan)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,6 +21,10 @@ scripts/install-deps.sh
 cmake --preset release >/dev/null
 cmake --build --preset release
 ctest --preset release -j 2
+
+cmake --preset paraview >/dev/null
+cmake --build --preset paraview
+ctest --preset paraview -j 2
 
 if $asan; then
     cmake --preset asan >/dev/null
