@@ -141,7 +141,7 @@ class Client(_ddsimp.Client):
         return super().upload(points, triangles, fields, name=name, session=session)
 
     def simplify(self, surface, keep=(0.5, 0.25, 0.1), *, alpha=0.5, strategy="edge",
-                 placement="midpoint", gradient_fields=None, feature_angle=180.0):
+                 placement=_D["placement"], gradient_fields=None, feature_angle=180.0):
         """Asks the server for levels of a stored surface (its id); returns a list of Level
         (Mesh with keep, triangle_count, target_reached, cached, error...) in the order of
         `keep`, or one Level when `keep` is a number."""
