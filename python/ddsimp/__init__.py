@@ -69,7 +69,7 @@ def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D[
     gradient_fields: names of the fields that drive the data term (None: all).
     feature_angle: dihedral angle in degrees above which an edge is a feature (180: none).
     line_tolerance, max_normal_turn: degrees (see docs/python.md).
-    threads: threads for the set-up and ranking (same output at any count).
+    threads: threads for the engine, 0 for every core (same output at any count).
     progress: callable(fraction done); returning False cancels (stop == "cancelled").
     """
     points, triangles, fields = _unpack(points, triangles, fields)

@@ -115,7 +115,6 @@ Options options_from_kwargs(const py::kwargs& kwargs) {
     o.line_tolerance = option(kwargs, "line_tolerance", o.line_tolerance);
     o.max_normal_turn = option(kwargs, "max_normal_turn", o.max_normal_turn);
     o.threads = option(kwargs, "threads", o.threads);
-    if (o.threads < 1) throw InputError("threads must be at least 1");
     return o;
 }
 
