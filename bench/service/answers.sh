@@ -16,17 +16,9 @@ root=$(dirname "$bench")
 results="$bench/results"
 
 cd "$root"
-build="${DDSIMP_BENCH_BUILD_DIR:-}"
-if [[ -z "$build" ]]; then
-    cmake --preset release >/dev/null
-    cmake --build --preset release --target ddsimp_server ddsimp_bench_answers ddsimp_cli
-    build="$root/build/release"
-fi
-
-surface="${DDSIMP_BENCH_SURFACE:-$bench/data/carotid-1m.vtp}"
-if [[ ! -f "$surface" ]]; then
-    DDSIMP="$build/tools/ddsimp" "$bench/make-data.sh"
-fi
+bench_targets="ddsimp_server ddsimp_bench_answers"
+# shellcheck source=bench/service/prepare.sh
+. "$here/prepare.sh"
 
 # shellcheck source=bench/start-server.sh
 . "$bench/start-server.sh"

@@ -17,17 +17,9 @@ runs="${1:-9}"
 results="$bench/results"
 
 cd "$root"
-build="${DDSIMP_BENCH_BUILD_DIR:-}"
-if [[ -z "$build" ]]; then
-    cmake --preset release >/dev/null
-    cmake --build --preset release --target ddsimp_server ddsimp_bench_service ddsimp_cli
-    build="$root/build/release"
-fi
-
-surface="${DDSIMP_BENCH_SURFACE:-$bench/data/carotid-1m.vtp}"
-if [[ ! -f "$surface" ]]; then
-    DDSIMP="$build/tools/ddsimp" "$bench/make-data.sh"
-fi
+bench_targets="ddsimp_server ddsimp_bench_service"
+# shellcheck source=bench/service/prepare.sh
+. "$here/prepare.sh"
 
 # shellcheck source=bench/start-server.sh
 . "$bench/start-server.sh"
