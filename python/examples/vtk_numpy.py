@@ -13,7 +13,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray,
 from vtkmodules.vtkCommonCore import vtkPoints
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
 from vtkmodules.vtkFiltersCore import vtkTriangleFilter
-from vtkmodules.vtkFiltersGeometry import vtkGeometryFilter
+from vtkmodules.vtkFiltersGeometry import vtkDataSetSurfaceFilter
 from vtkmodules.vtkIOLegacy import vtkDataSetReader
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLPolyDataWriter
 
@@ -23,7 +23,7 @@ import ddsimp
 def read_polydata(path):
     reader = vtkXMLPolyDataReader() if path.endswith(".vtp") else vtkDataSetReader()
     reader.SetFileName(path)
-    surface = vtkGeometryFilter()  # any dataset -> polydata
+    surface = vtkDataSetSurfaceFilter()  # any dataset -> polydata, in a stable order
     surface.SetInputConnection(reader.GetOutputPort())
     triangles = vtkTriangleFilter()
     triangles.SetInputConnection(surface.GetOutputPort())
@@ -32,9 +32,13 @@ def read_polydata(path):
 
 
 def to_arrays(poly):
-    """vtkPolyData of triangles -> (points, triangles, fields), views where VTK allows."""
+    """vtkPolyData of triangles -> (points, triangles, fields).
+
+    Points and fields are views into VTK's arrays: keep `poly` alive while they are used. The
+    triangles are a copy, since VTK may hand out a cell array's connectivity as a temporary.
+    """
     points = vtk_to_numpy(poly.GetPoints().GetData())
-    triangles = vtk_to_numpy(poly.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+    triangles = vtk_to_numpy(poly.GetPolys().GetConnectivityArray()).reshape(-1, 3).copy()
     pd = poly.GetPointData()
     fields = {}
     for i in range(pd.GetNumberOfArrays()):
@@ -71,7 +75,8 @@ def main():
     parser.add_argument("--strategy", choices=["edge", "vertex"], default="edge")
     args = parser.parse_args()
 
-    points, triangles, fields = to_arrays(read_polydata(args.input))
+    poly = read_polydata(args.input)
+    points, triangles, fields = to_arrays(poly)
     result = ddsimp.simplify(points, triangles, fields, keep=args.keep, alpha=args.alpha,
                              strategy=args.strategy)
     writer = vtkXMLPolyDataWriter()

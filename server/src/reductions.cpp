@@ -72,11 +72,13 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
                 --metrics_.reductions_running;
                 throw;
             }
-            --metrics_.reductions_running;
+            // Counted cancelled before it stops counting as running: whoever sees it stop sees why.
             if (record->stop() == StopReason::Cancelled) {
                 ++metrics_.reductions_cancelled;
+                --metrics_.reductions_running;
                 throw Cancelled();
             }
+            --metrics_.reductions_running;
             auto out =
                 std::make_shared<ComputedRecord>(ComputedRecord{params, std::move(*record), 0});
             out->seconds =

@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <set>
 
 namespace ddsimp::server {
 namespace asio = boost::asio;
@@ -114,21 +115,6 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
         remember_result(job->key, params);
     }
     if (r.supersede()) supersede(*c, rid, params.surface);
-    // A newer request for the same surface replaces the client's unsent older levels.
-    std::set<uint64_t> replaced;
-    c->drop_unstarted([&](const BulkItem& item) {
-        const bool stale =
-            item.request_id != 0 && item.request_id != rid && item.surface == params.surface;
-        if (stale) replaced.insert(item.request_id);
-        return stale;
-    });
-    for (uint64_t old : replaced) {
-        forget_request(c->id(), old);
-        c->end_request(old);
-        c->send_error(
-            v1::Error::CANCELLED,
-            "request " + std::to_string(old) + " replaced by request " + std::to_string(rid), old);
-    }
 
     job->encoding =
         r.encoding() == v1::MESHOPT && c->has_capability("meshopt-codec") ? v1::MESHOPT : v1::RAW;
@@ -359,16 +345,23 @@ void Service::cancel_request(Connection& c, uint64_t request_id) {
 }
 
 void Service::supersede(Connection& c, uint64_t request_id, const std::string& surface) {
-    std::vector<uint64_t> older;
+    // The client's older requests for the surface: those still computing, and those whose
+    // levels wait unsent in its queue.
+    std::set<uint64_t> older;
     for (auto it = running_.lower_bound({c.id(), 0});
          it != running_.end() && it->first.first == c.id(); ++it)
         if (it->first.second != request_id && it->second.surface == surface)
-            older.push_back(it->first.second);
+            older.insert(it->first.second);
+    c.drop_unstarted([&](const BulkItem& item) {
+        const bool stale =
+            item.request_id != 0 && item.request_id != request_id && item.surface == surface;
+        if (stale) older.insert(item.request_id);
+        return stale;
+    });
     for (uint64_t old : older) {
         forget_request(c.id(), old);
         if (!c.request_active(old)) continue;
         c.end_request(old);
-        c.drop_unstarted([&](const BulkItem& item) { return item.request_id == old; });
         c.send_error(v1::Error::CANCELLED,
                      "request " + std::to_string(old) + " superseded by request " +
                          std::to_string(request_id),

@@ -2,6 +2,8 @@
 // thread count and wherever the input lives in memory.
 #include "test_surfaces.h"
 
+#include <oneapi/tbb/global_control.h>
+
 namespace ddsimp::test {
 namespace {
 
@@ -40,6 +42,9 @@ TEST_P(Determinism, TwoRunsGiveTheSameBytes) {
 }
 
 TEST_P(Determinism, ThreadCountDoesNotMatter) {
+    // oneTBB gives an arena no more workers than the machine has cores unless allowed more: the
+    // thread counts below then really run on that many threads, also on a two-core machine.
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
     for (const Surface& in : {big_input(), tie_input()}) {
         Options o = options_for(GetParam());
         o.keep_fraction = 0.1;
@@ -80,7 +85,8 @@ TEST_P(Determinism, ProgressiveRecordThreadCountDoesNotMatter) {
     o.keep_fraction = 0.05;
     o.threads = 1;
     ProgressiveRecord one = ProgressiveRecord::build(in, o);
-    o.threads = 2;
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 8);
+    o.threads = 7;
     ProgressiveRecord two = ProgressiveRecord::build(in, o);
     ASSERT_EQ(one.operations(), two.operations());
     for (size_t n : {size_t(15000), size_t(5000), size_t(1100)})

@@ -11,6 +11,8 @@
 
 #include "surface_io.h"
 
+#include <oneapi/tbb/global_control.h>
+
 #include <cstdio>
 #include <filesystem>
 
@@ -101,6 +103,26 @@ TEST_P(RealSurfaces, TenPercentKeepsTopologyAndFields) {
     }
     if (rs.closed) {
         EXPECT_GT(signed_volume(r.surface) * signed_volume(l.repaired), 0);
+    }
+}
+
+// Real surfaces, with their ties and repairs, give the same bytes on one thread and on many. The
+// thread counts are allowed beyond the machine's cores, so that they really run that wide.
+TEST_P(RealSurfaces, ThreadCountDoesNotMatter) {
+    const Config& c = std::get<0>(GetParam());
+    const RealSurface& rs = std::get<1>(GetParam());
+    if (!std::filesystem::exists(std::string(DDSIMP_SHARED_DATA) + "/" + rs.path))
+        GTEST_SKIP() << rs.path << " not found under " << DDSIMP_SHARED_DATA;
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 13);
+    Options o = options_for(c);
+    o.keep_fraction = 0.25;
+    o.threads = 1;
+    const Result one = simplify(load(rs).input, o);
+    for (int threads : {3, 12}) {
+        o.threads = threads;
+        const Result many = simplify(load(rs).input, o);
+        EXPECT_TRUE(same_bytes(one.surface, many.surface)) << threads << " threads";
+        EXPECT_EQ(one.operations, many.operations) << threads << " threads";
     }
 }
 

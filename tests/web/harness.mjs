@@ -118,13 +118,19 @@ export async function triangleCount(page) {
   return Number.parseInt(await page.getByTestId('triangle-count').textContent(), 10);
 }
 
-// Waits until the triangle count satisfies `ok`; returns it.
+// Waits until the page shows an exact level (not a preview) whose triangle count satisfies `ok`;
+// returns the count. A preview may satisfy `ok` too, but its error and fields are not the level's.
 export async function waitForTriangles(page, ok, what) {
   const deadline = Date.now() + WAIT_MS;
   let n = NaN;
   while (Date.now() < deadline) {
-    n = await triangleCount(page);
-    if (ok(n)) return n;
+    // Both read at once: the level shown may change between two reads.
+    const shown = await page.evaluate(() => ({
+      n: Number.parseInt(document.querySelector('[data-testid="triangle-count"]').textContent, 10),
+      preview: document.querySelector('[data-testid="exactness"]').dataset.preview === 'true',
+    }));
+    n = shown.n;
+    if (ok(n) && !shown.preview) return n;
     await sleep(100);
   }
   const status = await page.getByTestId('status').textContent();

@@ -451,7 +451,7 @@ function display(surface, begin) {
   ui.reduction.textContent = `${formatValue(percent)}% of the triangles kept` +
     (begin.target_reached ? '' : ' (the target was not reached: nothing more is removable ' +
       'without changing the topology)');
-  showLevelError(begin.error);
+  showLevelError(begin.error, begin.preview);
   notice('');
 }
 
@@ -463,10 +463,10 @@ function asPercent(x) {
 
 // MeshBegin.error: geometric in bounding-box diagonals, data in field ranges; the raw numbers
 // are kept as data attributes for tests and tools.
-function showLevelError(error) {
+function showLevelError(error, preview) {
   const el = ui.levelError;
   if (!error) {
-    el.textContent = '– (this server does not say)';
+    el.textContent = preview ? '– (not measured for a preview)' : '– (this server does not say)';
     delete el.dataset.geometric;
     delete el.dataset.data;
     return;
