@@ -57,7 +57,9 @@ Config parse_config(int argc, char** argv) {
     const auto opt = [&](const std::string& name, auto& value, const std::string& help) {
         return app.add_option(name, value, help)->envname(environment_name(name));
     };
-    opt("--bind", c.bind, "address to listen on (0.0.0.0 for every interface)");
+    opt("--bind", c.bind, "address of the native port (0.0.0.0 for every interface)");
+    opt("--http-bind", c.http_bind,
+        "address of the HTTP port (unauthenticated /metrics, /healthz); \"\" for --bind's");
     opt("--port", c.port, "native protocol port");
     opt("--http-port", c.http_port, "HTTP port: /healthz, /metrics, WebSocket /ws, web renderer");
     opt("--data-dir", c.data_dir, "where uploaded surfaces are stored");
@@ -70,23 +72,43 @@ Config parse_config(int argc, char** argv) {
     opt("--sample", c.sample, "a surface file loaded at start (\"\" for none)");
     opt("--max-frame-bytes", c.max_frame_bytes, "largest accepted frame");
     opt("--max-surface-triangles", c.max_surface_triangles, "largest accepted upload");
-    opt("--max-clients", c.max_clients, "connections at once");
+    opt("--max-clients", c.max_clients,
+        "connections at once: native, HTTP, WebSocket and TLS handshakes together");
+    opt("--max-clients-per-address", c.max_clients_per_address,
+        "connections at once from one IP address");
+    opt("--fd-reserve", c.fd_reserve,
+        "descriptors kept for the server's own files; the client limits fit below the rest");
     opt("--max-sessions", c.max_sessions, "sessions at once");
     opt("--max-queue-mb", c.max_queue_mb,
         "per client: bytes waiting to be sent before it is dropped");
     opt("--max-upload-mb", c.max_upload_mb,
         "all clients together: MiB of uploads received but not yet stored");
-    opt("--send-timeout", c.send_timeout_s,
-        "seconds a stalled write is allowed before the client is dropped");
-    opt("--idle-timeout", c.idle_timeout_s, "seconds of silence before a connection is closed");
-    opt("--handshake-timeout", c.handshake_timeout_s,
-        "seconds a new connection has for TLS, Hello and Auth");
+    Timeouts& t = c.timeouts;
+    const auto seconds = [&](const std::string& name, double& value, const std::string& help) {
+        opt(name, value, help)->check(CLI::Range(0.001, 1e6));
+    };
+    seconds("--handshake-timeout", t.handshake,
+            "seconds a new connection has for TLS, Hello and Auth (or its WebSocket upgrade)");
+    seconds("--idle-timeout", t.idle, "seconds of silence before a connection is closed");
+    seconds("--send-timeout", t.send,
+            "seconds a stalled write is allowed before the client is dropped");
+    seconds("--http-timeout", t.http,
+            "seconds for an HTTP request to arrive, and between requests on a kept-alive one");
+    seconds("--upload-timeout", t.upload,
+            "seconds an upload in progress may wait for its next chunk before it is forgotten");
+    seconds("--accept-backoff", t.accept_backoff,
+            "the longest pause of a listener after accepting failed (e.g. out of descriptors)");
+    seconds("--accept-log-interval", t.accept_log_interval,
+            "seconds between two log lines about failed accepts");
     opt("--log-level", c.log_level, "trace, debug, info, warn, error")
         ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error"}));
+    opt("--log-format", c.log_format, "text, or json: one JSON object per line")
+        ->check(CLI::IsMember({"text", "json"}));
     try {
         app.parse(argc, argv);
         if (c.tls_cert.empty() != c.tls_key.empty())
             throw CLI::ValidationError("--tls-cert and --tls-key", "give both or neither");
+        if (c.http_bind.empty()) c.http_bind = c.bind;
     } catch (const CLI::ParseError& e) {
         std::exit(app.exit(e));
     }

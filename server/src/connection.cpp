@@ -1,6 +1,7 @@
 #include "connection.h"
 
 #include "client_limits.h"
+#include "log_text.h"
 #include "service.h"
 
 #include "ddsimp/protocol/mesh_codec.h"
@@ -19,7 +20,7 @@ const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessi
 
 Connection::Connection(Service& service, std::shared_ptr<Transport> transport, uint64_t id)
     : service_(service), transport_(std::move(transport)), id_(id), peer_(transport_->peer()),
-      queue_(protocol::kDefaultChunkBytes), idle_timer_(service.io()) {
+      queue_(protocol::kDefaultChunkBytes), idle_timer_(service.io()), upload_timer_(service.io()) {
     member_.set_client_id(id);
 }
 
@@ -33,8 +34,7 @@ void Connection::start() {
     spdlog::debug("client {} connected from {}", id_, peer_);
     transport_->start(shared_from_this());
     // Until the handshake is done, the handshake timeout applies.
-    idle_timer_.expires_after(
-        std::chrono::milliseconds(int64_t(1000 * service_.config().handshake_timeout_s)));
+    idle_timer_.expires_after(to_duration(service_.config().timeouts.handshake));
     idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
         auto self = weak.lock();
         if (!ec && self && !self->authenticated_) self->drop("no handshake within the timeout");
@@ -42,8 +42,7 @@ void Connection::start() {
 }
 
 void Connection::arm_idle_timer() {
-    idle_timer_.expires_after(
-        std::chrono::milliseconds(int64_t(1000 * service_.config().idle_timeout_s)));
+    idle_timer_.expires_after(to_duration(service_.config().timeouts.idle));
     idle_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
         auto self = weak.lock();
         if (ec || !self) return;
@@ -68,14 +67,14 @@ void Connection::on_frame(protocol::Frame frame) {
     } catch (const std::exception& e) {
         // A bug or an allocation that failed: end this connection, never the server.
         spdlog::error("client {} ({}): {} frame: {}", id_, peer_,
-                      protocol::message_type_name(frame.type), e.what());
+                      protocol::message_type_name(frame.type), loggable(e.what(), 300));
         send_error(v1::Error::INTERNAL, std::string("the server failed: ") + e.what(), 0, true);
     }
 }
 
 void Connection::on_bad_frame(const std::string& why) {
     ++service_.metrics().bad_frames;
-    spdlog::warn("client {} ({}): bad frame: {}", id_, peer_, why);
+    spdlog::warn("client {} ({}): bad frame: {}", id_, peer_, loggable(why, 300));
     send_error(v1::Error::BAD_FRAME, why, 0, true);
 }
 
@@ -154,7 +153,7 @@ void Connection::on_hello(const v1::Hello& hello) {
         authenticated_ = true;
         arm_idle_timer();
     }
-    spdlog::info("client {} ({}) is \"{}\" ({})", id_, peer_, member_.name(),
+    spdlog::info("client {} ({}) is \"{}\" ({})", id_, peer_, loggable(member_.name()),
                  v1::ClientKind_Name(member_.kind()));
 }
 
@@ -239,6 +238,33 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
     Upload& u = uploads_[id];
     u.begin = begin;
     u.bytes.reserve(expected);
+    u.last_heard = std::chrono::steady_clock::now();
+    if (uploads_.size() == 1) expire_uploads();
+}
+
+void Connection::expire_uploads() {
+    const auto timeout = to_duration(service_.config().timeouts.upload);
+    const auto now = std::chrono::steady_clock::now();
+    auto next = now + timeout;
+    for (auto it = uploads_.begin(); it != uploads_.end();) {
+        auto here = it++;
+        if (now - here->second.last_heard < timeout) {
+            next = std::min(next, here->second.last_heard + timeout);
+            continue;
+        }
+        const uint64_t id = here->first;
+        forget_upload(here);
+        send_error(v1::Error::CANCELLED,
+                   fmt::format("upload {}: no chunk for {:g} s (--upload-timeout); begin it again",
+                               id, service_.config().timeouts.upload),
+                   id);
+    }
+    if (uploads_.empty() || closed_) return;
+    upload_timer_.expires_at(next);
+    upload_timer_.async_wait([weak = weak_from_this()](boost::system::error_code ec) {
+        auto self = weak.lock();
+        if (!ec && self && !self->closed_) self->expire_uploads();
+    });
 }
 
 void Connection::forget_upload(std::map<uint64_t, Upload>::iterator it) {
@@ -266,6 +292,7 @@ void Connection::on_upload_chunk(v1::UploadChunk& chunk) {
                           chunk.upload_id());
     }
     u.bytes += chunk.data();
+    u.last_heard = std::chrono::steady_clock::now();
 }
 
 void Connection::on_upload_end(const v1::UploadEnd& end) {
@@ -384,7 +411,7 @@ void Connection::on_written(size_t bytes) {
 
 void Connection::on_write_timeout() {
     drop(fmt::format("no progress sending for {:g} s (it stopped reading)",
-                     service_.config().send_timeout_s));
+                     service_.config().timeouts.send));
 }
 
 void Connection::on_closed(const std::string& why) {
@@ -392,6 +419,7 @@ void Connection::on_closed(const std::string& why) {
     closed_ = true;
     closing_ = true;
     idle_timer_.cancel();
+    upload_timer_.cancel();
     queue_.drop_unstarted([](const BulkItem&) { return true; });
     account_queue();
     while (!uploads_.empty()) forget_upload(uploads_.begin());

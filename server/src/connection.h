@@ -66,7 +66,10 @@ private:
     struct Upload {
         v1::UploadBegin begin;
         std::string bytes;
+        std::chrono::steady_clock::time_point last_heard; // UploadBegin or the latest chunk
     };
+    // Forgets the uploads that have heard nothing for the upload timeout; runs while any is open.
+    void expire_uploads();
     // Drops an upload in progress and returns its bytes to the server's upload budget.
     void forget_upload(std::map<uint64_t, Upload>::iterator it);
     void on_request(const v1::Request& request);
@@ -90,6 +93,7 @@ private:
     size_t storing_uploads_ = 0;
     std::map<std::string, std::string> sessions_;
     boost::asio::steady_timer idle_timer_;
+    boost::asio::steady_timer upload_timer_;
 };
 
 } // namespace ddsimp::server

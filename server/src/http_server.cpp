@@ -1,14 +1,11 @@
 #include "http_server.h"
 
 #include "service.h"
+#include "web_files.h"
 #include "websocket_transport.h"
 
 #include <boost/beast/http.hpp>
 #include <spdlog/spdlog.h>
-
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 
 namespace ddsimp::server {
 namespace asio = boost::asio;
@@ -17,77 +14,22 @@ using tcp = asio::ip::tcp;
 
 namespace {
 
-constexpr auto kReadTimeout = std::chrono::seconds(30);
+constexpr size_t kMaxRequestBodyBytes = 64 * 1024;
 
-std::string content_type(const std::string& path) {
-    const auto ends = [&](const char* ext) {
-        const std::string e(ext);
-        return path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
-    };
-    if (ends(".html")) return "text/html; charset=utf-8";
-    if (ends(".js") || ends(".mjs")) return "text/javascript; charset=utf-8";
-    if (ends(".css")) return "text/css; charset=utf-8";
-    if (ends(".json")) return "application/json";
-    if (ends(".wasm")) return "application/wasm";
-    if (ends(".png")) return "image/png";
-    if (ends(".svg")) return "image/svg+xml";
-    if (ends(".ico")) return "image/x-icon";
-    return "application/octet-stream";
-}
-
-// A request path mapped into the web directory, or "" if it could leave it.
-std::string web_file(const std::string& dir, std::string target) {
-    target = target.substr(0, target.find_first_of("?#"));
-    if (target.empty() || target[0] != '/' || target.find("..") != std::string::npos ||
-        target.find('\\') != std::string::npos || target.find('\0') != std::string::npos)
-        return "";
-    if (target.back() == '/') target += "index.html";
-    return dir + target;
-}
-
-bool is_page_root(const std::string& target) {
-    return target == "/" || target.rfind("/?", 0) == 0 || target == "/index.html";
-}
-
-std::string html_escape(const std::string& text) {
-    std::string out;
-    for (char ch : text) {
-        if (ch == '&')
-            out += "&amp;";
-        else if (ch == '<')
-            out += "&lt;";
-        else if (ch == '>')
-            out += "&gt;";
-        else
-            out += ch;
-    }
-    return out;
-}
-
-// What / shows when the browser renderer has not been built (or --web-dir points elsewhere).
-std::string no_web_page(const std::string& dir) {
-    const std::string where = dir.empty() ? std::string("no --web-dir is set")
-                                          : "there is no index.html in " + html_escape(dir);
-    return "<!doctype html><title>ddsimp-server</title><h1>ddsimp-server</h1>"
-           "<p>The browser renderer is not here: " +
-           where +
-           ". Build it with <code>npm ci &amp;&amp; npm run build</code> in <code>web/</code> "
-           "(<code>scripts/run.sh</code> does this) and start the server with "
-           "<code>--web-dir web/dist</code>.</p><p>Endpoints: <a href=\"/healthz\">/healthz</a>, "
-           "<a href=\"/metrics\">/metrics</a>, WebSocket <code>/ws</code>.</p>\n";
-}
-
+// One HTTP connection: requests in turn (keep-alive), each within the HTTP timeout, until it
+// closes or becomes a WebSocket. It holds the connection's place; a WebSocket takes it over.
 template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
 public:
-    HttpSession(Stream stream, Service& service, std::string peer)
-        : stream_(std::move(stream)), service_(service), peer_(std::move(peer)) {}
+    HttpSession(Stream stream, HttpServer& server, std::string peer, Slot slot)
+        : stream_(std::move(stream)), server_(server), service_(server.service()),
+          peer_(std::move(peer)), slot_(std::move(slot)) {}
 
     void start() {
         if constexpr (std::is_same_v<Stream, beast::tcp_stream>) {
             read();
         } else {
-            beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
+            beast::get_lowest_layer(stream_).expires_after(timeouts().handshake);
             stream_.async_handshake(asio::ssl::stream_base::server,
                                     [self = this->shared_from_this()](beast::error_code ec) {
                                         if (!ec) self->read();
@@ -96,11 +38,19 @@ public:
     }
 
 private:
+    struct Durations {
+        std::chrono::milliseconds handshake, http, send;
+    };
+    Durations timeouts() const {
+        const Timeouts& t = service_.config().timeouts;
+        return {to_duration(t.handshake), to_duration(t.http), to_duration(t.send)};
+    }
+
     void read() {
         request_ = {};
         parser_.emplace();
-        parser_->body_limit(64 * 1024);
-        beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
+        parser_->body_limit(kMaxRequestBodyBytes);
+        beast::get_lowest_layer(stream_).expires_after(timeouts().http);
         http::async_read(stream_, buffer_, *parser_,
                          [self = this->shared_from_this()](beast::error_code ec, size_t) {
                              if (ec) return self->close();
@@ -111,25 +61,22 @@ private:
 
     void route() {
         const std::string target(request_.target());
-        if (websocket::is_upgrade(request_) && target == "/ws") return upgrade();
-        http::response<http::string_body> res{http::status::ok, request_.version()};
+        const std::string path = target.substr(0, target.find_first_of("?#"));
+        if (websocket::is_upgrade(request_) && path == "/ws") return upgrade();
+        HttpResponse res{http::status::ok, request_.version()};
         res.set(http::field::server, service_.server_name());
         res.keep_alive(request_.keep_alive());
         if (request_.method() != http::verb::get && request_.method() != http::verb::head) {
             res.result(http::status::method_not_allowed);
             res.body() = "only GET\n";
-        } else if (target == "/healthz") {
-            res.set(http::field::content_type, "text/plain");
-            res.body() = "ok\n";
-        } else if (target == "/metrics") {
-            res.set(http::field::content_type, "text/plain; version=0.0.4");
-            res.body() = service_.metrics_text();
+        } else if (const HttpHandler* handler = server_.find_route(path)) {
+            (*handler)(request_, res);
         } else {
-            serve_file(target, res);
+            serve_web_file(service_.config().web_dir, target, res);
         }
         res.prepare_payload();
-        auto shared = std::make_shared<http::response<http::string_body>>(std::move(res));
-        beast::get_lowest_layer(stream_).expires_after(kReadTimeout);
+        auto shared = std::make_shared<HttpResponse>(std::move(res));
+        beast::get_lowest_layer(stream_).expires_after(timeouts().send);
         http::async_write(stream_, *shared,
                           [self = this->shared_from_this(), shared](beast::error_code ec, size_t) {
                               if (ec || !shared->keep_alive()) return self->close();
@@ -137,44 +84,23 @@ private:
                           });
     }
 
-    void serve_file(const std::string& target, http::response<http::string_body>& res) {
-        const std::string& dir = service_.config().web_dir;
-        const std::string path = dir.empty() ? std::string() : web_file(dir, target);
-        std::error_code ec;
-        std::ifstream in;
-        if (!path.empty() && std::filesystem::is_regular_file(path, ec))
-            in.open(path, std::ios::binary);
-        if (!in.is_open()) {
-            res.set(http::field::content_type, "text/html; charset=utf-8");
-            if (is_page_root(target)) {
-                res.body() = no_web_page(dir);
-            } else {
-                res.result(http::status::not_found);
-                res.set(http::field::content_type, "text/plain");
-                res.body() = "not found\n";
-            }
-            return;
-        }
-        res.set(http::field::content_type, content_type(path));
-        // Vite names the files under assets/ by their content: they never change. The page
-        // itself must be asked for again so a rebuilt renderer is picked up.
-        res.set(http::field::cache_control, target.rfind("/assets/", 0) == 0
-                                                ? "public, max-age=31536000, immutable"
-                                                : "no-cache");
-        res.body().assign(std::istreambuf_iterator<char>(in), {});
-    }
-
     void upgrade() {
         beast::get_lowest_layer(stream_).expires_never();
         auto ws = std::make_shared<websocket::stream<Stream>>(std::move(stream_));
-        ws->set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-        ws->async_accept(request_, [ws, &service = service_, peer = peer_](beast::error_code ec) {
-            if (ec) return;
-            const Config& c = service.config();
-            service.accept(std::make_shared<WebSocketTransport<Stream>>(
-                std::move(*ws), peer + " (WebSocket)", c.max_frame_bytes,
-                std::chrono::milliseconds(int64_t(1000 * c.send_timeout_s))));
-        });
+        const Timeouts& t = service_.config().timeouts;
+        websocket::stream_base::timeout options{};
+        options.handshake_timeout = to_duration(t.handshake);
+        options.idle_timeout = to_duration(t.idle);
+        options.keep_alive_pings = true;
+        ws->set_option(options);
+        ws->async_accept(
+            request_, [ws, &service = service_, peer = peer_, slot = slot_](beast::error_code ec) {
+                if (ec) return;
+                const Config& c = service.config();
+                service.accept(std::make_shared<WebSocketTransport<Stream>>(
+                    std::move(*ws), peer + " (WebSocket)", c.max_frame_bytes,
+                    to_duration(c.timeouts.send), slot));
+            });
     }
 
     void close() {
@@ -183,49 +109,79 @@ private:
     }
 
     Stream stream_;
+    HttpServer& server_;
     Service& service_;
     std::string peer_;
+    Slot slot_;
     beast::flat_buffer buffer_;
     std::optional<http::request_parser<http::string_body>> parser_;
-    http::request<http::string_body> request_;
+    HttpRequest request_;
 };
+
+// Tells a refused client why (503), if its socket takes it at once, then lets it go.
+void refuse(tcp::socket& socket, const std::string& why, bool tls) {
+    if (tls) return; // nothing can be said before a handshake
+    boost::system::error_code ignored;
+    socket.non_blocking(true, ignored);
+    char drain[4096]; // the request, so that closing does not reset the connection
+    socket.read_some(asio::buffer(drain), ignored);
+    const std::string body = why + "\n";
+    const std::string response = "HTTP/1.1 503 Service Unavailable\r\nContent-Type: text/plain\r\n"
+                                 "Connection: close\r\nRetry-After: 10\r\nContent-Length: " +
+                                 std::to_string(body.size()) + "\r\n\r\n" + body;
+    socket.write_some(asio::buffer(response), ignored);
+    socket.shutdown(tcp::socket::shutdown_send, ignored);
+}
 
 } // namespace
 
-HttpServer::HttpServer(asio::io_context& io, Service& service, tcp::endpoint at,
-                       asio::ssl::context* tls)
-    : service_(service), acceptor_(io, at), tls_(tls) {
-    spdlog::info("HTTP on {}:{} (/healthz, /metrics, /ws{})", at.address().to_string(),
-                 acceptor_.local_endpoint().port(), tls ? ", TLS" : "");
-    accept();
-}
-
-void HttpServer::stop() {
-    beast::error_code ignored;
-    acceptor_.close(ignored);
-}
-
-void HttpServer::accept() {
-    acceptor_.async_accept([this](beast::error_code ec, tcp::socket socket) {
-        if (ec == asio::error::operation_aborted) return;
-        if (!ec) {
-            beast::error_code ignored;
-            const auto remote = socket.remote_endpoint(ignored);
-            const std::string peer =
-                remote.address().to_string() + ":" + std::to_string(remote.port());
-            if (tls_)
-                std::make_shared<HttpSession<beast::ssl_stream<beast::tcp_stream>>>(
-                    beast::ssl_stream<beast::tcp_stream>(beast::tcp_stream(std::move(socket)),
-                                                         *tls_),
-                    service_, peer)
-                    ->start();
-            else
-                std::make_shared<HttpSession<beast::tcp_stream>>(
-                    beast::tcp_stream(std::move(socket)), service_, peer)
-                    ->start();
-        }
-        accept();
+HttpServer::HttpServer(Service& service, asio::ssl::context* tls) : service_(service), tls_(tls) {
+    route("/healthz", [](const HttpRequest&, HttpResponse& res) {
+        res.set(http::field::content_type, "text/plain");
+        res.body() = "ok\n";
     });
+    route("/metrics", [&service](const HttpRequest&, HttpResponse& res) {
+        res.set(http::field::content_type, "text/plain; version=0.0.4");
+        res.body() = service.metrics_text();
+    });
+}
+
+void HttpServer::route(std::string path, HttpHandler handler) {
+    routes_[std::move(path)] = std::move(handler);
+}
+
+const HttpHandler* HttpServer::find_route(const std::string& path) const {
+    const HttpHandler* best = nullptr;
+    size_t best_length = 0;
+    for (const auto& [route, handler] : routes_) {
+        const bool prefix = !route.empty() && route.back() == '/';
+        const bool matches = prefix ? path.rfind(route, 0) == 0 : path == route;
+        if (matches && route.size() >= best_length) {
+            best = &handler;
+            best_length = route.size();
+        }
+    }
+    return best;
+}
+
+PortProtocol HttpServer::protocol() {
+    PortProtocol p;
+    p.name = tls_ ? "HTTPS (/healthz, /metrics, /ws)" : "HTTP (/healthz, /metrics, /ws)";
+    p.serve = [this](tcp::socket socket, std::string peer, Slot slot) {
+        if (tls_)
+            std::make_shared<HttpSession<beast::ssl_stream<beast::tcp_stream>>>(
+                beast::ssl_stream<beast::tcp_stream>(beast::tcp_stream(std::move(socket)), *tls_),
+                *this, std::move(peer), std::move(slot))
+                ->start();
+        else
+            std::make_shared<HttpSession<beast::tcp_stream>>(
+                beast::tcp_stream(std::move(socket)), *this, std::move(peer), std::move(slot))
+                ->start();
+    };
+    p.refuse = [tls = tls_ != nullptr](tcp::socket& socket, const std::string& why) {
+        refuse(socket, why, tls);
+    };
+    return p;
 }
 
 } // namespace ddsimp::server

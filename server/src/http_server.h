@@ -1,30 +1,46 @@
 // The HTTP port (Boost.Beast): /healthz, /metrics (Prometheus text), the WebSocket endpoint /ws
-// carrying protocol frames, and the browser renderer's files at /. TLS when configured.
+// carrying protocol frames, and the browser renderer's files at /. TLS when configured. Accepting
+// is the Listener's; another endpoint is added with route().
 #pragma once
 
-#include <boost/asio/io_context.hpp>
-#include <boost/asio/ip/tcp.hpp>
-#include <boost/asio/ssl/context.hpp>
+#include "listener.h"
 
+#include <boost/asio/ssl/context.hpp>
+#include <boost/beast/http/message.hpp>
+#include <boost/beast/http/string_body.hpp>
+
+#include <functional>
+#include <map>
 #include <memory>
+#include <string>
 
 namespace ddsimp::server {
 
 class Service;
 
+using HttpRequest = boost::beast::http::request<boost::beast::http::string_body>;
+using HttpResponse = boost::beast::http::response<boost::beast::http::string_body>;
+// Fills the response (status 200 and keep-alive are set already) for a GET or HEAD.
+using HttpHandler = std::function<void(const HttpRequest&, HttpResponse&)>;
+
 class HttpServer {
 public:
-    // Listens at once; throws boost::system::system_error if the port cannot be bound.
-    HttpServer(boost::asio::io_context& io, Service& service, boost::asio::ip::tcp::endpoint at,
-               boost::asio::ssl::context* tls);
-    void stop();
+    HttpServer(Service& service, boost::asio::ssl::context* tls);
+
+    // Answers GET and HEAD of `path` (without its query) with `handler`; a path that ends in '/'
+    // takes every path below it. The longest match wins; what matches nothing is a web file.
+    void route(std::string path, HttpHandler handler);
+    // What the Listener of the HTTP port runs for each connection.
+    PortProtocol protocol();
+
+    // The handler for a request's path, or null (network thread).
+    const HttpHandler* find_route(const std::string& path) const;
+    Service& service() { return service_; }
 
 private:
-    void accept();
-
     Service& service_;
-    boost::asio::ip::tcp::acceptor acceptor_;
     boost::asio::ssl::context* tls_;
+    std::map<std::string, HttpHandler> routes_;
 };
 
 } // namespace ddsimp::server

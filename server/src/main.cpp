@@ -1,12 +1,14 @@
 // ddsimp-server: listens for renderers and tools (native protocol and WebSocket), simplifies
 // on a thread pool, and stops cleanly on SIGTERM or SIGINT.
+#include "admission.h"
 #include "config.h"
 #include "http_server.h"
+#include "listener.h"
+#include "logging.h"
 #include "native_server.h"
 #include "service.h"
 
 #include <boost/asio/signal_set.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <csignal>
@@ -18,9 +20,7 @@ int main(int argc, char** argv) {
     // Under a file size limit (ulimit -f), a write past it fails with EFBIG instead of killing the
     // server, and the upload that caused it gets UNAVAILABLE.
     std::signal(SIGXFSZ, SIG_IGN);
-    spdlog::set_default_logger(spdlog::stderr_color_mt("ddsimp"));
-    spdlog::set_level(spdlog::level::from_str(config.log_level));
-    spdlog::set_pattern("%Y-%m-%dT%H:%M:%S.%e %^%l%$ %v");
+    setup_logging(config);
     try {
         boost::asio::io_context io(1);
         std::unique_ptr<boost::asio::ssl::context> tls;
@@ -33,14 +33,21 @@ int main(int argc, char** argv) {
             tls->use_private_key_file(config.tls_key, boost::asio::ssl::context::pem);
         }
         Service service(io, config);
-        const auto address = boost::asio::ip::make_address(config.bind);
-        NativeServer native(io, service, {address, config.port}, tls.get());
-        HttpServer http(io, service, {address, config.http_port}, tls.get());
+        Admission admission(fit_descriptor_limit(config), service.metrics());
+        HttpServer http(service, tls.get());
+        const auto address = [](const std::string& a) { return boost::asio::ip::make_address(a); };
+        Listener native_port(io, {address(config.bind), config.port},
+                             native_protocol(service, tls.get()), admission, service.metrics(),
+                             config.timeouts);
+        Listener http_port(
+            io,
+            {address(config.http_bind.empty() ? config.bind : config.http_bind), config.http_port},
+            http.protocol(), admission, service.metrics(), config.timeouts);
         boost::asio::signal_set signals(io, SIGTERM, SIGINT);
         signals.async_wait([&](boost::system::error_code, int signal) {
             spdlog::info("signal {}: shutting down", signal);
-            native.stop();
-            http.stop();
+            native_port.stop();
+            http_port.stop();
             service.stop();
         });
         spdlog::info("ddsimp-server ready: ddsimp remote list --server {}:{}", config.bind,

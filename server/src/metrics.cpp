@@ -18,8 +18,20 @@ std::string Metrics::render(const Snapshot& s) const {
         out << "# HELP ddsimp_" << name << ' ' << help << "\n# TYPE ddsimp_" << name << ' ' << type
             << "\nddsimp_" << name << ' ' << value << '\n';
     };
-    metric("connections", "gauge", "Open client connections.", connections.load());
+    metric("connections", "gauge", "Open protocol clients (native and WebSocket).",
+           connections.load());
     metric("connections_total", "counter", "Connections accepted.", connections_total.load());
+    metric("sockets", "gauge",
+           "Connections holding a place: native, HTTP, WebSocket, TLS handshakes in progress.",
+           sockets.load());
+    metric("sockets_limit", "gauge", "The most connections at once (--max-clients, as fitted).",
+           sockets_limit.load());
+    metric("sockets_per_address_limit", "gauge", "The most connections at once from one address.",
+           sockets_per_address_limit.load());
+    metric("connections_refused_total", "counter", "Connections refused over a limit.",
+           connections_refused.load());
+    metric("accept_errors_total", "counter", "Accepts that failed (out of descriptors, memory).",
+           accept_errors.load());
     metric("connections_dropped_total", "counter",
            "Clients dropped because they could not keep up.", connections_dropped.load());
     metric("bad_frames_total", "counter", "Malformed or oversized frames received.",

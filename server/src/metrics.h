@@ -11,8 +11,14 @@
 namespace ddsimp::server {
 
 struct Metrics {
-    std::atomic<int64_t> connections{0};
+    std::atomic<int64_t> connections{0}; // protocol clients (native and WebSocket)
     std::atomic<uint64_t> connections_total{0};
+    // Every accepted socket holds a place (admission.h): HTTP, WebSocket, native, TLS handshakes.
+    std::atomic<int64_t> sockets{0};
+    std::atomic<int64_t> sockets_limit{0};
+    std::atomic<int64_t> sockets_per_address_limit{0};
+    std::atomic<uint64_t> connections_refused{0}; // over a limit
+    std::atomic<uint64_t> accept_errors{0};       // accepting failed (descriptors, memory)
     std::atomic<uint64_t> connections_dropped{0}; // slow readers, over-limit queues
     std::atomic<uint64_t> bad_frames{0};
     std::atomic<uint64_t> requests{0};

@@ -7,65 +7,65 @@
 
 namespace ddsimp::server {
 
-NativeServer::NativeServer(asio::io_context& io, Service& service, tcp::endpoint at,
-                           asio::ssl::context* tls)
-    : service_(service), acceptor_(io, at), tls_(tls) {
-    spdlog::info("native protocol on {}:{}{}", at.address().to_string(),
-                 acceptor_.local_endpoint().port(), tls ? " (TLS)" : "");
-    accept();
-}
+namespace {
 
-void NativeServer::stop() {
+// Tells a refused client why in an Error frame, if its socket takes it at once, then lets it go.
+void refuse(tcp::socket& socket, const std::string& why, bool tls) {
+    if (tls) return; // nothing can be said before a handshake
     boost::system::error_code ignored;
-    acceptor_.close(ignored);
+    socket.non_blocking(true, ignored);
+    // Read what the client sent already (its Hello), so that closing does not reset the
+    // connection before it reads the answer.
+    char drain[4096];
+    socket.read_some(asio::buffer(drain), ignored);
+    v1::Error e;
+    e.set_code(v1::Error::RESOURCE_EXHAUSTED);
+    e.set_message(why);
+    const std::string frame = protocol::encode_frame(e);
+    socket.write_some(asio::buffer(frame), ignored);
+    socket.shutdown(tcp::socket::shutdown_send, ignored);
 }
 
-void NativeServer::accept() {
-    acceptor_.async_accept([this](boost::system::error_code ec, tcp::socket socket) {
-        if (ec == asio::error::operation_aborted) return;
-        if (ec) {
-            spdlog::warn("accept failed: {}", ec.message());
-            return accept();
-        }
-        boost::system::error_code ignored;
-        socket.set_option(tcp::no_delay(true), ignored);
-        const auto remote = socket.remote_endpoint(ignored);
-        const std::string peer = remote.address().to_string() + ":" + std::to_string(remote.port());
-        const Config& c = service_.config();
-        const StreamLimits limits{c.max_frame_bytes,
-                                  std::chrono::milliseconds(int64_t(1000 * c.send_timeout_s))};
-        if (!tls_) {
-            service_.accept(
-                std::make_shared<StreamTransport<tcp::socket>>(std::move(socket), peer, limits));
-            return accept();
-        }
-        if (handshaking_ + service_.open_connections() >= c.max_clients) {
-            spdlog::warn("refusing {}: {} clients connected or in the TLS handshake", peer,
-                         c.max_clients);
-            socket.close(ignored);
-            return accept();
-        }
-        ++handshaking_;
-        using TlsStream = asio::ssl::stream<tcp::socket>;
-        auto stream = std::make_shared<TlsStream>(std::move(socket), *tls_);
-        auto timer = std::make_shared<asio::steady_timer>(acceptor_.get_executor());
-        timer->expires_after(std::chrono::milliseconds(int64_t(1000 * c.handshake_timeout_s)));
-        timer->async_wait([stream](boost::system::error_code e) {
-            if (!e) stream->lowest_layer().close();
-        });
-        stream->async_handshake(asio::ssl::stream_base::server, [this, stream, timer, peer, limits](
-                                                                    boost::system::error_code e) {
+void serve(Service& service, asio::ssl::context* tls, tcp::socket socket, std::string peer,
+           Slot slot) {
+    const Config& c = service.config();
+    const StreamLimits limits{c.max_frame_bytes, to_duration(c.timeouts.send)};
+    if (!tls) {
+        service.accept(std::make_shared<StreamTransport<tcp::socket>>(std::move(socket), peer,
+                                                                      limits, std::move(slot)));
+        return;
+    }
+    using TlsStream = asio::ssl::stream<tcp::socket>;
+    auto stream = std::make_shared<TlsStream>(std::move(socket), *tls);
+    auto timer = std::make_shared<asio::steady_timer>(stream->get_executor());
+    timer->expires_after(to_duration(c.timeouts.handshake));
+    timer->async_wait([stream](boost::system::error_code e) {
+        if (!e) stream->lowest_layer().close();
+    });
+    // The place is held through the handshake: unfinished handshakes count like open clients.
+    stream->async_handshake(
+        asio::ssl::stream_base::server, [&service, stream, timer, peer, limits,
+                                         slot = std::move(slot)](boost::system::error_code e) {
             timer->cancel();
-            --handshaking_;
             if (e) {
-                spdlog::warn("TLS handshake with {} failed: {}", peer, e.message());
+                spdlog::debug("TLS handshake with {} failed: {}", peer, e.message());
                 return;
             }
-            service_.accept(
-                std::make_shared<StreamTransport<TlsStream>>(std::move(*stream), peer, limits));
+            service.accept(std::make_shared<StreamTransport<TlsStream>>(std::move(*stream), peer,
+                                                                        limits, slot));
         });
-        accept();
-    });
+}
+
+} // namespace
+
+PortProtocol native_protocol(Service& service, asio::ssl::context* tls) {
+    PortProtocol p;
+    p.name = tls ? "native protocol (TLS)" : "native protocol";
+    p.serve = [&service, tls](tcp::socket socket, std::string peer, Slot slot) {
+        serve(service, tls, std::move(socket), std::move(peer), std::move(slot));
+    };
+    p.refuse = [tls](tcp::socket& socket, const std::string& why) { refuse(socket, why, tls); };
+    return p;
 }
 
 } // namespace ddsimp::server

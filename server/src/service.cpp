@@ -1,6 +1,7 @@
 #include "service.h"
 
 #include "client_limits.h"
+#include "log_text.h"
 #include "surface_file.h"
 
 #include "ddsimp/protocol/reduction_options.h"
@@ -94,15 +95,8 @@ void Service::accept(std::shared_ptr<Transport> transport) {
     ++metrics_.connections;
     connections_[c->id()] = c;
     c->start();
-    if (stopping_) {
-        c->send_error(v1::Error::UNAVAILABLE, "the server is shutting down", 0, true);
-    } else if (connections_.size() > config_.max_clients) {
-        spdlog::warn("refusing {}: {} clients connected", c->peer(), config_.max_clients);
-        c->send_error(v1::Error::RESOURCE_EXHAUSTED,
-                      "the server has its maximum of " + std::to_string(config_.max_clients) +
-                          " clients",
-                      0, true);
-    }
+    // The client limits are the listeners' (admission.h): every connection is counted there.
+    if (stopping_) c->send_error(v1::Error::UNAVAILABLE, "the server is shutting down", 0, true);
 }
 
 void Service::connection_closed(Connection& c) {
@@ -191,8 +185,8 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             result.set_vertices(added.info.vertices);
             result.set_already_stored(added.already_stored);
             result.set_repairs(describe_repairs(repairs));
-            spdlog::info("client {} uploaded \"{}\" ({} triangles) as {}{}", c->id(), begin.name(),
-                         added.info.triangles, added.info.id,
+            spdlog::info("client {} uploaded \"{}\" ({} triangles) as {}{}", c->id(),
+                         loggable(begin.name()), added.info.triangles, added.info.id,
                          added.already_stored ? " (already stored)" : "");
         } catch (const protocol::BlobError& e) {
             error.set_code(v1::Error::INVALID_ARGUMENT);
@@ -206,7 +200,8 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             error.set_message("upload " + std::to_string(id) +
                               ": the server cannot store it: " + e.what());
         } catch (const std::exception& e) { // e.g. out of memory: this upload fails, not the server
-            spdlog::error("upload {} of client {} failed: {}", id, c->id(), e.what());
+            spdlog::error("upload {} of client {} failed: {}", id, c->id(),
+                          loggable(e.what(), 300));
             error.set_code(v1::Error::INTERNAL);
             error.set_message("upload " + std::to_string(id) + ": the server failed: " + e.what());
         }
@@ -279,7 +274,8 @@ void Service::join(std::shared_ptr<Connection> c, const v1::JoinSession& join) {
                              "the server has its maximum of " +
                                  std::to_string(config_.max_sessions) + " sessions");
     c->sessions()[name] = scope;
-    spdlog::info("client {} joined session \"{}\" ({} members)", c->id(), name, s->members.size());
+    spdlog::info("client {} joined session \"{}\" ({} members)", c->id(), loggable(name),
+                 s->members.size());
     broadcast(*s, created ? "created" : "joined", c->id());
     if (!s->view.surface().empty()) send_session_mesh(*s, {c->id()});
 }
@@ -297,7 +293,7 @@ void Service::leave(Connection& c, const std::string& name) {
             session_keys_.erase(k);
         }
     }
-    spdlog::info("client {} left session \"{}\"", c.id(), name);
+    spdlog::info("client {} left session \"{}\"", c.id(), loggable(name));
     if (s) broadcast(*s, leader_changed ? "leader-left" : "left", c.id());
 }
 

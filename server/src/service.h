@@ -30,7 +30,7 @@ public:
     Service(boost::asio::io_context& io, const Config& config);
     ~Service();
 
-    // A new client; refused (with an error, then closed) above the client limit.
+    // A new client (admitted by a listener).
     void accept(std::shared_ptr<Transport> transport);
     void connection_closed(Connection& c);
     size_t open_connections() const { return connections_.size(); }

@@ -2,6 +2,7 @@
 // it (protocol::read_header, before allocating), then reads the payload.
 #pragma once
 
+#include "admission.h"
 #include "transport.h"
 
 #include <boost/asio.hpp>
@@ -16,16 +17,17 @@ using tcp = asio::ip::tcp;
 
 struct StreamLimits {
     size_t max_frame_bytes = protocol::kDefaultMaxFrameBytes;
-    std::chrono::milliseconds send_timeout{30'000};
+    std::chrono::milliseconds send_timeout; // Timeouts::send
 };
 
 template <class Stream>
 class StreamTransport : public Transport,
                         public std::enable_shared_from_this<StreamTransport<Stream>> {
 public:
-    StreamTransport(Stream stream, std::string peer, StreamLimits limits)
+    // `slot`: the connection's place (Admission), released when the transport goes.
+    StreamTransport(Stream stream, std::string peer, StreamLimits limits, Slot slot)
         : stream_(std::move(stream)), peer_(std::move(peer)), limits_(limits),
-          write_timer_(stream_.get_executor()) {}
+          slot_(std::move(slot)), write_timer_(stream_.get_executor()) {}
 
     void start(std::shared_ptr<TransportHandler> handler) override {
         handler_ = std::move(handler);
@@ -109,6 +111,7 @@ private:
     Stream stream_;
     std::string peer_;
     StreamLimits limits_;
+    Slot slot_;
     asio::steady_timer write_timer_;
     std::shared_ptr<TransportHandler> handler_;
     std::array<unsigned char, protocol::kHeaderBytes> header_{};

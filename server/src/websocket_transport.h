@@ -1,6 +1,7 @@
 // Frames over a WebSocket (for browsers): each binary message is exactly one frame.
 #pragma once
 
+#include "admission.h"
 #include "transport.h"
 
 #include <boost/asio/ssl.hpp>
@@ -20,10 +21,11 @@ template <class NextLayer>
 class WebSocketTransport : public Transport,
                            public std::enable_shared_from_this<WebSocketTransport<NextLayer>> {
 public:
+    // `slot`: the connection's place (Admission), released when the transport goes.
     WebSocketTransport(websocket::stream<NextLayer> ws, std::string peer, size_t max_frame_bytes,
-                       std::chrono::milliseconds send_timeout)
+                       std::chrono::milliseconds send_timeout, Slot slot)
         : ws_(std::move(ws)), peer_(std::move(peer)), max_frame_bytes_(max_frame_bytes),
-          send_timeout_(send_timeout), write_timer_(ws_.get_executor()) {
+          send_timeout_(send_timeout), slot_(std::move(slot)), write_timer_(ws_.get_executor()) {
         ws_.binary(true);
         ws_.read_message_max(max_frame_bytes + protocol::kHeaderBytes);
     }
@@ -102,6 +104,7 @@ private:
     std::string peer_;
     size_t max_frame_bytes_;
     std::chrono::milliseconds send_timeout_;
+    Slot slot_;
     boost::asio::steady_timer write_timer_;
     std::shared_ptr<TransportHandler> handler_;
     beast::flat_buffer in_;

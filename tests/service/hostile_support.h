@@ -85,7 +85,13 @@ private:
 // RawClient has its own, which costs the test three more descriptors).
 class BareConnection {
 public:
-    BareConnection(asio::io_context& io, uint16_t port) : socket_(io) {
+    // `from`: the local address (any of 127.0.0.0/8 on Linux), to stand for another machine.
+    BareConnection(asio::io_context& io, uint16_t port, const std::string& from = "")
+        : socket_(io) {
+        if (!from.empty()) {
+            socket_.open(tcp::v4());
+            socket_.bind({asio::ip::make_address(from), 0});
+        }
         socket_.connect({asio::ip::make_address("127.0.0.1"), port});
     }
     // Errors are ignored: the server may have closed the connection already, as it should.
@@ -124,6 +130,46 @@ public:
 
 private:
     tcp::socket socket_;
+};
+
+// An HTTP connection kept alive, for reading /metrics while every other place is taken (it holds
+// one of the server's places itself).
+class HttpKeepAlive {
+public:
+    explicit HttpKeepAlive(uint16_t port) : socket_(io_) {
+        socket_.connect({asio::ip::make_address("127.0.0.1"), port});
+    }
+    // The body of GET `target`; throws if the connection was closed.
+    std::string get(const std::string& target) {
+        const std::string request = "GET " + target + " HTTP/1.1\r\nHost: localhost\r\n\r\n";
+        asio::write(socket_, asio::buffer(request));
+        const size_t head_end =
+            asio::read_until(socket_, asio::dynamic_buffer(buffer_), "\r\n\r\n");
+        const std::string head = buffer_.substr(0, head_end);
+        buffer_.erase(0, head_end);
+        std::smatch m;
+        if (!std::regex_search(head, m, std::regex("Content-Length: ([0-9]+)", std::regex::icase)))
+            throw std::runtime_error("no Content-Length in " + head);
+        const size_t length = std::stoul(m[1]);
+        if (buffer_.size() < length)
+            asio::read(socket_, asio::dynamic_buffer(buffer_),
+                       asio::transfer_exactly(length - buffer_.size()));
+        std::string body = buffer_.substr(0, length);
+        buffer_.erase(0, length);
+        return body;
+    }
+    // One sample of /metrics, or -1.
+    double metric(const std::string& name) {
+        const std::string text = "\n" + get("/metrics");
+        std::smatch m;
+        if (!std::regex_search(text, m, std::regex("\n" + name + " ([0-9.e+-]+)"))) return -1;
+        return std::stod(m[1]);
+    }
+
+private:
+    asio::io_context io_;
+    tcp::socket socket_;
+    std::string buffer_;
 };
 
 // The ids of the surfaces the client may see.

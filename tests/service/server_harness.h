@@ -90,15 +90,10 @@ public:
     bool spawn() {
         port = free_port();
         http_port = free_port();
-        std::vector<std::string> args{DDSIMP_SERVER_BINARY,
-                                      "--port",
-                                      std::to_string(port),
-                                      "--http-port",
-                                      std::to_string(http_port),
-                                      "--data-dir",
-                                      data_dir_.string(),
-                                      "--log-level",
-                                      "warn"};
+        std::vector<std::string> args{
+            DDSIMP_SERVER_BINARY,      "--port",     std::to_string(port), "--http-port",
+            std::to_string(http_port), "--data-dir", data_dir_.string()};
+        if (flag("--log-level") == "127.0.0.1") args.insert(args.end(), {"--log-level", "warn"});
         args.insert(args.end(), extra_.begin(), extra_.end());
         pid_ = ::fork();
         if (pid_ == 0) {
@@ -112,7 +107,8 @@ public:
         }
         // Ready when both ports accept; not starting if it exited first.
         for (int i = 0; i < 300; ++i) {
-            if (accepts(port) && accepts(http_port)) return true;
+            if (accepts(port, flag("--bind")) && accepts(http_port, flag("--http-bind")))
+                return true;
             int status = 0;
             if (::waitpid(pid_, &status, WNOHANG) == pid_) {
                 pid_ = -1;
@@ -134,12 +130,19 @@ public:
         return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
     }
 
-    static bool accepts(uint16_t p) {
+    static bool accepts(uint16_t p, const std::string& host = "127.0.0.1") {
         asio::io_context io;
         tcp::socket s(io);
         boost::system::error_code ec;
-        s.connect({asio::ip::make_address("127.0.0.1"), p}, ec);
+        s.connect({asio::ip::make_address(host), p}, ec);
         return !ec;
+    }
+    // The value of a flag given to the server ("127.0.0.1" when it is not given: the address a
+    // --bind or --http-bind not given stands for).
+    std::string flag(const std::string& name) const {
+        for (size_t i = 0; i + 1 < extra_.size(); ++i)
+            if (extra_[i] == name) return extra_[i + 1];
+        return "127.0.0.1";
     }
 
     // A line of /proc/PID/status in bytes ("VmRSS", "VmHWM": resident now, at most so far).

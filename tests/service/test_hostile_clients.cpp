@@ -163,9 +163,13 @@ TEST_F(HostileClients, TruncatedFramesAreClosedByTheTimeoutsAndHoldOneFrameEach)
 // Hundreds of connections that say Hello and nothing more fill the client limit: those past it
 // are refused with RESOURCE_EXHAUSTED, the good client (already in) keeps being served, and once
 // the idle ones leave there is room again. Silent connections are closed by the handshake timeout.
+// Every connection holds a place, the HTTP one that reads /metrics too.
 TEST_F(HostileClients, HundredsOfIdleConnectionsMeetTheClientLimit) {
     constexpr size_t kMaxClients = 256, kIdle = 300;
-    start({"--max-clients", std::to_string(kMaxClients), "--handshake-timeout", "2"});
+    start({"--max-clients", std::to_string(kMaxClients), "--max-clients-per-address", "1000",
+           "--handshake-timeout", "2"});
+    HttpKeepAlive monitor(server_->http_port);
+    EXPECT_EQ(monitor.metric("ddsimp_sockets"), 2); // the good client and the monitor
     asio::io_context io;
     std::vector<std::unique_ptr<BareConnection>> idle;
     size_t welcomed = 0, refused = 0;
@@ -185,10 +189,16 @@ TEST_F(HostileClients, HundredsOfIdleConnectionsMeetTheClientLimit) {
         EXPECT_FALSE(c->until_closed());
         ++refused;
     }
-    // The good client holds one place; the idle ones fill the rest, and only the rest.
-    EXPECT_EQ(welcomed, kMaxClients - 1);
-    EXPECT_EQ(refused, kIdle - (kMaxClients - 1));
-    EXPECT_EQ(metric(server_->http_port, "ddsimp_connections"), kMaxClients);
+    // The good client and the monitor hold two places; the idle ones fill the rest, and only it.
+    EXPECT_EQ(welcomed, kMaxClients - 2);
+    EXPECT_EQ(refused, kIdle - (kMaxClients - 2));
+    EXPECT_EQ(monitor.metric("ddsimp_sockets"), kMaxClients);
+    EXPECT_EQ(monitor.metric("ddsimp_connections"), kMaxClients - 1);
+    EXPECT_EQ(monitor.metric("ddsimp_connections_refused_total"), refused);
+    // The HTTP port is full too: a new request is told so.
+    const std::string full = http_get(server_->http_port, "/healthz");
+    EXPECT_NE(full.find("503"), std::string::npos) << full;
+    EXPECT_NE(full.find("maximum of 256 clients"), std::string::npos) << full;
     good_->check_level();
     expect_peak_within(kMaxClients * kConnectionOverhead + kAllocatorSlack);
 

@@ -309,6 +309,31 @@ TEST(Security, NoClientChosenStringBecomesAPath) {
             << e.path().filename();
 }
 
+// The static files never leave --web-dir: not through a symbolic link to a file or a directory
+// outside it (a link that stays inside is followed).
+TEST(Security, StaticFilesNeverFollowASymlinkOut) {
+    const fs::path dir = temp_dir("web-symlinks");
+    const fs::path web = dir / "web", outside = dir / "outside";
+    fs::create_directories(web / "assets");
+    fs::create_directories(outside);
+    std::ofstream(web / "index.html") << "<!doctype html>the page";
+    std::ofstream(outside / "secret.txt") << "the secret";
+    fs::create_symlink(outside / "secret.txt", web / "leak.txt");
+    fs::create_symlink(outside, web / "assets" / "out");
+    fs::create_symlink("/etc/passwd", web / "passwd");
+    fs::create_symlink(web / "index.html", web / "alias.html");
+    ServerProcess server(dir / "data", {"--web-dir", web.string()});
+    for (const std::string target : {"/leak.txt", "/assets/out/secret.txt", "/passwd"}) {
+        const std::string answer = http_get(server.http_port, target);
+        EXPECT_NE(answer.find("404 Not Found"), std::string::npos) << target << ": " << answer;
+        EXPECT_EQ(answer.find("the secret"), std::string::npos) << target;
+        EXPECT_EQ(answer.find("root:"), std::string::npos) << target;
+    }
+    const std::string inside = http_get(server.http_port, "/alias.html");
+    EXPECT_NE(inside.find("200 OK"), std::string::npos) << inside;
+    EXPECT_NE(inside.find("the page"), std::string::npos) << inside;
+}
+
 // Every size a client chooses has a limit (docs/security.md lists them); a few at their edge.
 TEST(Security, ClientChosenSizesAreLimited) {
     ServerProcess server(temp_dir("sizes"), {"--threads", "1"});
