@@ -15,7 +15,7 @@
 //
 // Prints one JSON object on stdout. Exit status: 0 on success, 1 if simplify throws, 2 for bad
 // arguments or an unreadable file.
-#include "surface_io.h" // tools/, from the ddsimp_tools target
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include <ddsimp/ddsimp.h>
 

@@ -8,7 +8,7 @@
 // (made by bench/make-data.sh). It is loaded once, before any timing. Each benchmark reports the
 // triangles it actually reached as counters; a ddsimp failure (an exception) marks the benchmark
 // as errored and makes the program exit with status 1.
-#include "surface_io.h" // tools/, from the ddsimp_tools target
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include <ddsimp/ddsimp.h>
 

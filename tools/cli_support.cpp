@@ -1,6 +1,6 @@
 #include "cli_support.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <cstdio>
 #include <unistd.h>

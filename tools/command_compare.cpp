@@ -1,8 +1,8 @@
 // ddsimp compare ORIGINAL REDUCED: geometric and data error of a reduced surface.
 #include "cli_support.h"
 #include "commands.h"
-#include "compare.h"
-#include "surface_io.h"
+#include "ddsimp/io/compare.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // ddsimp info IN: sizes, fields with their ranges, and the topology simplification keeps.
 #include "cli_support.h"
 #include "commands.h"
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

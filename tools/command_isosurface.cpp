@@ -1,8 +1,8 @@
 // ddsimp isosurface VOLUME --field F --value V -o OUT: a surface with data, from a volume.
 #include "cli_support.h"
 #include "commands.h"
-#include "isosurface.h"
-#include "surface_io.h"
+#include "ddsimp/io/isosurface.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -64,7 +64,7 @@ Command add_remote_set(CLI::App& remote);
 
 } // namespace ddsimp::cli
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 template <class F> int ddsimp::cli::with_server_errors(const RemoteArgs& args, F&& body) {
     try {

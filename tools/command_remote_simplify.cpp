@@ -4,7 +4,7 @@
 #include "cli_support.h"
 #include "command_remote.h"
 #include "commands.h"
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <CLI/CLI.hpp>
 

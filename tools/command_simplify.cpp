@@ -1,8 +1,8 @@
 // ddsimp simplify IN -o OUT: reads, simplifies with ddsimp::simplify, writes, reports.
 #include "cli_support.h"
 #include "commands.h"
+#include "ddsimp/io/surface_io.h"
 #include "simplify_args.h"
-#include "surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

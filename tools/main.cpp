@@ -5,7 +5,7 @@
 // option, bad value). Every error is one line on stderr starting with "ddsimp: ".
 #include "cli_support.h"
 #include "commands.h"
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <CLI/CLI.hpp>
 

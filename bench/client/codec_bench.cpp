@@ -5,7 +5,7 @@
 // below it, meshopt makes a level arrive sooner.
 //
 //   ddsimp_bench_codec [SURFACE] [RUNS]     (default bench/data/carotid-1m.vtp, 7 runs)
-#include "surface_io.h" // tools/, from the ddsimp_tools target
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include "ddsimp/ddsimp.h"
 #include "ddsimp/protocol/mesh_codec.h"
@@ -45,8 +45,7 @@ struct Measured {
     double encode = 0, decode = 0;
 };
 
-template <class Encode, class Decode>
-Measured measure(int runs, Encode encode, Decode decode) {
+template <class Encode, class Decode> Measured measure(int runs, Encode encode, Decode decode) {
     Measured m;
     protocol::EncodedBlob blob;
     m.encode = median_seconds(runs, [&] { blob = encode(); });

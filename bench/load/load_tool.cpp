@@ -9,7 +9,7 @@
 // error, and the server's peak memory (VmHWM of --server-pid) and its drop and error counters
 // (/metrics on --http-port). The main surface's levels are computed once before the clock starts
 // (--cold: not). The random choices are seeded: the same flags make the same load.
-#include "surface_io.h" // tools/, from the ddsimp_tools target
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include "ddsimp/client.h"
 

@@ -1,7 +1,7 @@
 #include "peers.h"
 
-#include "vtk_messages.h" // tools/, from ddsimp_tools
-#include "vtk_surface.h"
+#include "ddsimp/io/vtk_messages.h" // io/, from the ddsimp_io target
+#include "ddsimp/io/vtk_surface.h"
 
 #include <meshoptimizer.h>
 

@@ -253,7 +253,7 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              "since the machine may be shared (results.csv also has the wall clock), conversion to "
              "and from a peer's own mesh type included (for ddsimp: its validation and adjacency), memory the process's peak RSS "
              "(`ru_maxrss`, loaded surface included) and the rise of the RSS during the call. "
-             "Errors are measured by the same code for every simplifier (`tools/compare.h`, as "
+             "Errors are measured by the same code for every simplifier (`ddsimp/io/compare.h`, as "
              "`ddsimp compare`): geometric RMS and Hausdorff distance both ways, relative to the "
              "bounding-box diagonal; data error RMS and max at the closest points, relative to the "
              "field's range, of the worst field. Topology kept: Euler characteristic, boundary "

@@ -3,7 +3,7 @@
 //   ddsimp_report reduce IN --peer P --keep F [--alpha A] [-o OUT] [--no-compare]
 //       One reduction in this process (so its peak memory is its own): reads IN, runs peer P
 //       (see peers.h) to F of IN's triangles, and prints one JSON object: time, memory, triangles
-//       reached, geometric and data error (tools/compare.h, the same code for every peer) and the
+//       reached, geometric and data error (io/compare.h, the same code for every peer) and the
 //       topology before and after. Exit status 0 even when the peer fails (the JSON says so);
 //       1 for an unreadable IN, 2 for bad arguments.
 //   ddsimp_report prepare IN [IN2...] -o OUT [--fields a,b] [--derive-heat]
@@ -16,10 +16,10 @@
 //       carrying the volume's point fields; repaired like `prepare`.
 #include "peers.h"
 
-#include "compare.h" // tools/, from ddsimp_tools
-#include "surface_io.h"
-#include "volume_reader.h"
-#include "vtk_surface.h"
+#include "ddsimp/io/compare.h" // io/, from the ddsimp_io target
+#include "ddsimp/io/surface_io.h"
+#include "ddsimp/io/volume_reader.h"
+#include "ddsimp/io/vtk_surface.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

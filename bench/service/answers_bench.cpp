@@ -10,7 +10,7 @@
 //
 // Prints one Markdown table (and JSON with --json). One run of each: the figures are seconds on
 // a shared machine; compare each with its peer measured in the same run.
-#include "surface_io.h" // tools/, from the ddsimp_tools target
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include "ddsimp/client.h"
 

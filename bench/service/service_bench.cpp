@@ -10,8 +10,8 @@
 // Every figure is the median (and 90th percentile) of --runs repetitions after a warm-up that
 // fills the server's cache. Mesh payloads are skipped on arrival, not decoded: what is timed is
 // the server and the loopback, not a client's decoding.
+#include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 #include "frame_socket.h"
-#include "surface_io.h" // tools/, from the ddsimp_tools target
 
 #include "ddsimp/protocol/mesh_codec.h"
 

@@ -6,7 +6,7 @@
 
 #include "ddsimp/client.h"
 #include "ddsimp/ddsimp.h"
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 namespace ddsimp::python {
 

@@ -1,7 +1,7 @@
-// ddsimp.read and ddsimp.write: the command line's file formats (tools/surface_io.h).
+// ddsimp.read and ddsimp.write: the command line's file formats (io/, ddsimp/io/surface_io.h).
 #include "arrays.h"
 #include "bindings.h"
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 namespace ddsimp::python {
 

@@ -6,7 +6,7 @@
 #include "fuzz_check.h"
 #include "fuzz_temp_dir.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <fstream>
 

@@ -1,6 +1,6 @@
 // Crashes and hangs the fuzz targets found in the file readers, as tests of the code that was
 // fixed (the inputs themselves are in corpus/read_*/ and replayed by fuzz_replay_read_*).
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <gtest/gtest.h>
 

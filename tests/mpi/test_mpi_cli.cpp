@@ -1,9 +1,9 @@
 // ddsimp-mpi run under `mpirun --oversubscribe -np N` (mpirun.sh) on real surfaces: target,
 // topology, fields, same bytes twice, data error against the single-process result, and errors.
-#include "compare.h"
-#include "isosurface.h"
+#include "ddsimp/io/compare.h"
+#include "ddsimp/io/isosurface.h"
+#include "ddsimp/io/surface_io.h"
 #include "pieces.h"
-#include "surface_io.h"
 #include "test_surfaces.h"
 
 #include <nlohmann/json.hpp>

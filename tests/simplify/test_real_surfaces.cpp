@@ -9,7 +9,7 @@
 // fields to be kept.
 #include "test_surfaces.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <oneapi/tbb/global_control.h>
 

@@ -1,7 +1,7 @@
 // The ddsimp command line, run as a separate process: exit statuses, one-line errors, --json.
 #include "tools_test_support.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <nlohmann/json.hpp>
 

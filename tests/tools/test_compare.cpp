@@ -1,9 +1,9 @@
 // compare_surfaces and the closest-point BVH behind it.
 #include "tools_test_support.h"
 
-#include "compare.h"
-#include "surface_io.h"
-#include "triangle_bvh.h"
+#include "ddsimp/io/compare.h"
+#include "ddsimp/io/surface_io.h"
+#include "ddsimp/io/triangle_bvh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,8 +1,8 @@
 // extract_isosurface on the shared volumes; expected counts are the data README's "iso check"s.
 #include "tools_test_support.h"
 
-#include "isosurface.h"
-#include "surface_io.h"
+#include "ddsimp/io/isosurface.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // Reading the real files of the shared data set; the expected counts are the data README's.
 #include "tools_test_support.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <fstream>
 

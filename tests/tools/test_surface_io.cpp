@@ -1,7 +1,7 @@
 // read_surface / write_surface: round trips through every writable format, and the errors.
 #include "tools_test_support.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <fstream>
 #include <iterator>

@@ -1,9 +1,9 @@
 #include "distributed_simplify.h"
 
 #include "cli_support.h"
+#include "ddsimp/io/surface_io.h"
 #include "mpi_transfer.h"
 #include "pieces.h"
-#include "surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

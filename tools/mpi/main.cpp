@@ -8,9 +8,9 @@
 // I/O error, 2 usage error; every error is one line on stderr from rank 0 starting with
 // "ddsimp-mpi: ", and every rank stops (no rank is left waiting).
 #include "cli_support.h"
+#include "ddsimp/io/surface_io.h"
 #include "distributed_simplify.h"
 #include "simplify_args.h"
-#include "surface_io.h"
 
 #include <CLI/CLI.hpp>
 #include <mpi.h>

@@ -1,5 +1,5 @@
 // Chooses the reader or writer by extension and turns every failure into one IoError line.
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include "openmesh_files.h"
 #include "vtk_files.h"

@@ -1,8 +1,8 @@
 #include "openmesh_files.h"
 
+#include "ddsimp/io/surface_io.h"
 #include "ddsimp/openmesh.h" // TriMesh
 #include "file_header_checks.h"
-#include "surface_io.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/exporter/ExporterT.hh>

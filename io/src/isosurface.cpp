@@ -1,9 +1,9 @@
-#include "isosurface.h"
+#include "ddsimp/io/isosurface.h"
 
-#include "surface_io.h"
-#include "volume_reader.h"
-#include "vtk_messages.h"
-#include "vtk_surface.h"
+#include "ddsimp/io/surface_io.h"
+#include "ddsimp/io/volume_reader.h"
+#include "ddsimp/io/vtk_messages.h"
+#include "ddsimp/io/vtk_surface.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>

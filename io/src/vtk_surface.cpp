@@ -1,6 +1,6 @@
-#include "vtk_surface.h"
+#include "ddsimp/io/vtk_surface.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>

@@ -1,9 +1,9 @@
 #include "vtk_files.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
+#include "ddsimp/io/vtk_messages.h"
+#include "ddsimp/io/vtk_surface.h"
 #include "vtk_legacy_checks.h"
-#include "vtk_messages.h"
-#include "vtk_surface.h"
 
 #include <vtkDataSet.h>
 #include <vtkDataSetReader.h>

@@ -1,4 +1,4 @@
-#include "triangle_bvh.h"
+#include "ddsimp/io/triangle_bvh.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// Conversion between ddsimp::Surface and VTK data sets (internal to ddsimp_tools).
+// Conversion between ddsimp::Surface and VTK data sets (internal to ddsimp_io).
 #pragma once
 
 #include "ddsimp/ddsimp.h"

@@ -1,8 +1,8 @@
-#include "volume_reader.h"
+#include "ddsimp/io/volume_reader.h"
 
-#include "surface_io.h"
+#include "ddsimp/io/surface_io.h"
+#include "ddsimp/io/vtk_messages.h"
 #include "vtk_files.h"
-#include "vtk_messages.h"
 
 #include <vtkAppendFilter.h>
 #include <vtkCellData.h>

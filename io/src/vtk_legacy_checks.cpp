@@ -1,7 +1,7 @@
 #include "vtk_legacy_checks.h"
 
+#include "ddsimp/io/vtk_messages.h"
 #include "text_scanner.h"
-#include "vtk_messages.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "vtk_messages.h"
+#include "ddsimp/io/vtk_messages.h"
 
 #include <vtkLogger.h>
 #include <vtkObjectFactory.h>

@@ -8,7 +8,7 @@ namespace ddsimp::io {
 
 // While alive, VTK's errors and warnings are collected instead of printed to stderr (VTK readers
 // report problems only by printing). The first capture also switches VTK's logger output to
-// stderr off for good: ddsimp_tools reports VTK's errors in its exceptions instead. Not
+// stderr off for good: ddsimp_io reports VTK's errors in its exceptions instead. Not
 // thread-safe: VTK's output window is process-global.
 class VtkMessageCapture {
 public:

@@ -1,4 +1,4 @@
-// Reading volumes and grids for isosurface extraction (internal to ddsimp_tools).
+// Reading volumes and grids for isosurface extraction (internal to ddsimp_io).
 #pragma once
 
 #include <vtkSmartPointer.h>

@@ -1,6 +1,6 @@
-#include "compare.h"
+#include "ddsimp/io/compare.h"
 
-#include "triangle_bvh.h"
+#include "ddsimp/io/triangle_bvh.h"
 
 #include <algorithm>
 #include <cmath>

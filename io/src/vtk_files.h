@@ -1,4 +1,4 @@
-// Surfaces in VTK's file formats (internal to ddsimp_tools; use surface_io.h).
+// Surfaces in VTK's file formats (internal to ddsimp_io; use surface_io.h).
 #pragma once
 
 #include "ddsimp/ddsimp.h"

@@ -1,8 +1,8 @@
 // Writes a surface file in the server's store format from any file `ddsimp` reads: how
 // data/SurfaceVectors.ddsurf, the server's built-in sample, is made from data/SurfaceVectors.vtk.
 //   ddsimp-make-sample IN OUT NAME
+#include "ddsimp/io/surface_io.h"
 #include "surface_file.h"
-#include "surface_io.h"
 
 #include <iostream>
 

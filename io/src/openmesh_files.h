@@ -1,4 +1,4 @@
-// Surfaces in the formats OpenMesh reads and writes (internal to ddsimp_tools; use surface_io.h).
+// Surfaces in the formats OpenMesh reads and writes (internal to ddsimp_io; use surface_io.h).
 #pragma once
 
 #include "ddsimp/ddsimp.h"
