@@ -16,11 +16,10 @@ class App;
 
 namespace ddsimp::mpi {
 
-// Pieces stop at kPieceSlack x their share of the target; the final pass does the rest. Measured
-// (ddsimp compare, data RMS error against one process, 4 ranks, both strategies): 1.25 gave up
-// to 1.41x on earth.vtp at 10% and 2 up to 1.25x on the carotid isosurface at 20%, 3 at most
-// 1.03x on those, the motorBike cutting plane and the 1.18 M carotid isosurface. The price is a
-// final pass over 3x the target on rank 0 alone.
+// Pieces stop at kPieceSlack x their share of the target; the final pass does the rest. Pieces
+// reduced further, with their borders locked, cannot spend their error where one process would,
+// so the data error rises above one process's; 3 keeps it level where a smaller slack did not
+// (bench/mpi/README.md). The price is a final pass over 3x the target on rank 0 alone.
 inline constexpr double kPieceSlack = 3.0;
 
 // With --pieces, IN names one file per rank with this in place of the rank number.

@@ -48,8 +48,7 @@ struct CompareReport {
 // with the same components); empty means every field of the original that the reduced one also
 // has with the same number of components.
 // Throws ddsimp::InputError for a missing or mismatched field or an empty surface.
-// Cost: O((V + V') log T) with a BVH per surface, single-threaded: about 2 s for a 1.18 M-triangle
-// isosurface against its 10% reduction (measured on the 2-core development machine).
+// Cost: O((V + V') log T) with a BVH per surface, single-threaded.
 CompareReport compare_surfaces(const Surface& original, const Surface& reduced,
                                const std::vector<std::string>& fields);
 
