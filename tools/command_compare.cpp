@@ -3,12 +3,15 @@
 #include "commands.h"
 #include "ddsimp/io/compare.h"
 #include "ddsimp/io/surface_io.h"
+#include "text_table.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace ddsimp::cli {
 
@@ -30,10 +33,17 @@ nlohmann::json to_json(const tools::TwoWayError& e) {
             {"symmetric", to_json(e.symmetric)}};
 }
 
-void print_row(const char* label, const tools::TwoWayError& e) {
-    std::printf("  %-22s %11.4e %11.4e %11.4e %11.4e %11.4e %11.4e\n", label,
-                e.original_to_reduced.rms, e.original_to_reduced.max, e.reduced_to_original.rms,
-                e.reduced_to_original.max, e.symmetric.rms, e.symmetric.max);
+// rms and max of each direction, in the table's column order.
+std::vector<std::string> error_cells(const std::string& label, const tools::TwoWayError& e) {
+    std::vector<std::string> cells{label};
+    for (const tools::ErrorStats* s :
+         {&e.original_to_reduced, &e.reduced_to_original, &e.symmetric})
+        for (double x : {s->rms, s->max}) {
+            char buffer[32];
+            std::snprintf(buffer, sizeof buffer, "%.4e", x);
+            cells.emplace_back(buffer);
+        }
+    return cells;
 }
 
 int run_compare(const CompareArgs& args) {
@@ -73,12 +83,17 @@ int run_compare(const CompareArgs& args) {
                 args.reduced.c_str(), report.original_samples, report.reduced_samples, seconds);
     std::printf("  errors relative to the original's bounding-box diagonal (%g) or field range\n",
                 report.diagonal);
-    std::printf("  %-22s %23s %23s %23s\n", "", "original -> reduced", "reduced -> original",
-                "symmetric");
-    std::printf("  %-22s %11s %11s %11s %11s %11s %11s\n", "", "rms", "max", "rms", "max", "rms",
-                "max");
-    print_row("distance", report.distance);
-    for (const tools::FieldError& f : report.fields) print_row(f.name.c_str(), f.error);
+    using Align = TextTable::Align;
+    TextTable table({{"error of"},
+                     {"rms orig->red", Align::Right},
+                     {"max orig->red", Align::Right},
+                     {"rms red->orig", Align::Right},
+                     {"max red->orig", Align::Right},
+                     {"rms symmetric", Align::Right},
+                     {"max symmetric", Align::Right}});
+    table.add_row(error_cells("distance", report.distance));
+    for (const tools::FieldError& f : report.fields) table.add_row(error_cells(f.name, f.error));
+    std::printf("%s", table.render("  ").c_str());
     return kExitOk;
 }
 

@@ -2,6 +2,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "ddsimp/io/surface_io.h"
+#include "text_table.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -35,16 +36,6 @@ FieldRange range_of(const Field& f, size_t vertices) {
             r.max[c] = std::max(r.max[c], x);
         }
     return r;
-}
-
-std::string format_range(const FieldRange& r) {
-    std::string out;
-    char buffer[96];
-    for (size_t c = 0; c < r.min.size(); ++c) {
-        std::snprintf(buffer, sizeof buffer, "%s[%g, %g]", c ? " " : "", r.min[c], r.max[c]);
-        out += buffer;
-    }
-    return out;
 }
 
 int run_info(const InfoArgs& args) {
@@ -88,23 +79,30 @@ int run_info(const InfoArgs& args) {
     }
 
     std::printf("%s\n", args.input.c_str());
-    std::printf("  vertices   %zu (%zu used by triangles)\n", surface.vertex_count(),
+    std::printf("  %-22s %zu (%zu used by triangles)\n", "vertices", surface.vertex_count(),
                 topology.vertices);
-    std::printf("  triangles  %zu", surface.triangle_count());
+    std::printf("  %-22s %zu", "triangles", surface.triangle_count());
     if (repairs.degenerate_triangles_dropped || repairs.duplicate_triangles_dropped)
         std::printf(" (%zu degenerate and %zu duplicate; the rest is analysed)",
                     repairs.degenerate_triangles_dropped, repairs.duplicate_triangles_dropped);
-    std::printf("\n  fields     %zu\n", surface.fields.size());
-    for (const Field& f : surface.fields)
-        std::printf("    %-16s %d component%s %s\n", f.name.c_str(), f.components,
-                    f.components == 1 ? " " : "s",
-                    format_range(range_of(f, surface.vertex_count())).c_str());
-    std::printf("  edges      %zu (%zu boundary, %zu non-manifold)\n", topology.edges,
+    std::printf("\n  %-22s %zu (%zu boundary, %zu non-manifold)\n", "edges", topology.edges,
                 topology.boundary_edges, topology.nonmanifold_edges);
-    std::printf("  euler characteristic  %lld\n", topology.euler_characteristic);
-    std::printf("  boundary loops        %zu\n", topology.boundary_loops);
-    std::printf("  components            %zu\n", topology.components);
-    std::printf("  non-manifold vertices %zu\n", topology.nonmanifold_vertices);
+    std::printf("  %-22s %lld\n", "euler characteristic", topology.euler_characteristic);
+    std::printf("  %-22s %zu\n", "boundary loops", topology.boundary_loops);
+    std::printf("  %-22s %zu\n", "components", topology.components);
+    std::printf("  %-22s %zu\n", "non-manifold vertices", topology.nonmanifold_vertices);
+    std::printf("  %-22s %zu\n", "fields", surface.fields.size());
+    if (surface.fields.empty()) return kExitOk;
+    // One row per component: a vector's as NAME[0], NAME[1], ...
+    using Align = TextTable::Align;
+    TextTable table({{"field"}, {"min", Align::Right}, {"max", Align::Right}});
+    for (const Field& f : surface.fields) {
+        const FieldRange r = range_of(f, surface.vertex_count());
+        for (int c = 0; c < f.components; ++c)
+            table.add_row({f.components == 1 ? f.name : f.name + "[" + std::to_string(c) + "]",
+                           table_number(r.min[c]), table_number(r.max[c])});
+    }
+    std::printf("\n%s", table.render("  ").c_str());
     return kExitOk;
 }
 

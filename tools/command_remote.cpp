@@ -5,6 +5,7 @@
 #include "cli_support.h"
 #include "commands.h"
 #include "ddsimp/io/surface_io.h"
+#include "text_table.h"
 
 #include <CLI/CLI.hpp>
 
@@ -12,6 +13,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <string>
+#include <vector>
 
 namespace ddsimp::cli {
 
@@ -106,20 +109,35 @@ int run_upload(const UploadArgs& args) {
     });
 }
 
-int run_list(const RemoteArgs& args) {
+int run_list(const RemoteArgs& args, bool json) {
     return with_server_errors(args, [&] {
         Client client;
         connect_remote(client, args);
+        using Align = TextTable::Align;
+        TextTable table({{"surface"},
+                         {"name"},
+                         {"triangles", Align::Right},
+                         {"vertices", Align::Right},
+                         {"fields"}});
         for (const SurfaceInfo& s : client.list_surfaces()) {
             nlohmann::json fields = nlohmann::json::array();
-            for (const FieldInfo& f : s.fields)
+            std::vector<std::string> names;
+            for (const FieldInfo& f : s.fields) {
                 fields.push_back({{"name", f.name}, {"components", f.components}});
-            print_json_line({{"surface", s.surface},
-                             {"name", s.name},
-                             {"triangles", s.triangles},
-                             {"vertices", s.vertices},
-                             {"fields", fields}});
+                names.push_back(
+                    f.components == 1 ? f.name : f.name + "(" + std::to_string(f.components) + ")");
+            }
+            if (json)
+                print_json_line({{"surface", s.surface},
+                                 {"name", s.name},
+                                 {"triangles", s.triangles},
+                                 {"vertices", s.vertices},
+                                 {"fields", fields}});
+            else
+                table.add_row({s.surface, s.name, std::to_string(s.triangles),
+                               std::to_string(s.vertices), join(names)});
         }
+        if (!json) std::printf("%s", table.render().c_str());
         return kExitOk;
     });
 }
@@ -139,9 +157,11 @@ Command add_remote_upload(CLI::App& remote) {
 
 Command add_remote_list(CLI::App& remote) {
     auto args = std::make_shared<RemoteArgs>();
+    auto json = std::make_shared<bool>(false);
     CLI::App* sub = remote.add_subcommand("list", "The surfaces the server has stored");
     add_remote_options(*sub, *args);
-    return {sub, [args] { return run_list(*args); }};
+    sub->add_flag("--json", *json, "Print one JSON object per surface, a line each");
+    return {sub, [args, json] { return run_list(*args, *json); }};
 }
 
 Command add_remote_command(CLI::App& app) {

@@ -33,7 +33,7 @@ int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
         }
         seconds = seconds_since(start);
     }
-    io::write_surface(result.surface, args.output);
+    io::write_surface(result.surface, args.output, io::WriteOptions{args.colour_by, args.meshopt});
 
     if (args.json)
         std::printf("%s\n", simplify_json(args, options, result, seconds).dump().c_str());

@@ -14,8 +14,13 @@ namespace ddsimp::cli {
 void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
     command.add_option("input", args.input, "Input surface (.vtk .vtp .ply .obj .off .stl)")
         ->required();
-    command.add_option("-o,--output", args.output, "Output surface (.vtk .vtp .ply .obj .off)")
+    command
+        .add_option("-o,--output", args.output, "Output surface (.vtk .vtp .ply .obj .off .glb)")
         ->required();
+    command.add_option("--colour-by", args.colour_by,
+                       ".glb: the field shown as vertex colours (default: the first scalar that "
+                       "varies)");
+    command.add_flag("--meshopt", args.meshopt, ".glb: compress with EXT_meshopt_compression");
     command.add_option("--alpha", args.alpha, "Weight of curvature vs data gradient, in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();

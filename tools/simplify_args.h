@@ -30,6 +30,8 @@ struct SimplifyArgs {
     double max_normal_turn = Options{}.max_normal_turn;
     int threads = 1;
     bool json = false;
+    std::string colour_by; // .glb output: the field shown as colours
+    bool meshopt = false;  // .glb output: EXT_meshopt_compression
 };
 
 // Adds IN, -o OUT and every simplify option (with its checks) to `command`, writing into `args`,

@@ -4,6 +4,8 @@
 #include "openmesh_files.h"
 #include "vtk_files.h"
 
+#include "ddsimp/protocol/glb.h"
+
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
@@ -21,6 +23,24 @@ bool is_openmesh_readable(const std::string& ext) {
 }
 bool is_openmesh_writable(const std::string& ext) {
     return ext == ".ply" || ext == ".obj" || ext == ".off";
+}
+bool is_writable(const std::string& ext) {
+    return is_vtk_format(ext) || is_openmesh_writable(ext) || ext == ".glb";
+}
+
+void write_glb_file(const Surface& surface, const std::string& path, const WriteOptions& options) {
+    std::string bytes;
+    try {
+        protocol::GlbOptions glb;
+        glb.colour_field = options.colour_field;
+        glb.meshopt = options.meshopt;
+        bytes = protocol::write_glb(surface, glb);
+    } catch (const protocol::GlbError& e) {
+        throw IoError("cannot write " + path + ": " + e.what());
+    }
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    if (!out.flush()) throw IoError("cannot write " + path + ": the disk refused the bytes");
 }
 
 // Catches what the format libraries report badly or not at all: a missing or unreadable file.
@@ -85,17 +105,19 @@ Surface read_surface(const std::string& path) {
 
 void check_output_path(const std::string& path) {
     const std::string ext = extension_of(path);
-    if (!is_vtk_format(ext) && !is_openmesh_writable(ext))
+    if (!is_writable(ext))
         throw IoError("cannot write " + path + ": unknown extension '" + ext +
-                      "' (writable: .vtk .vtp .ply .obj .off)");
+                      "' (writable: .vtk .vtp .ply .obj .off .glb)");
     check_writable(path);
 }
 
-void write_surface(const Surface& surface, const std::string& path) {
+void write_surface(const Surface& surface, const std::string& path, const WriteOptions& options) {
     check_output_path(path);
     check_shape(surface, path);
     const std::string ext = extension_of(path);
-    if (is_vtk_format(ext))
+    if (ext == ".glb")
+        write_glb_file(surface, path, options);
+    else if (is_vtk_format(ext))
         write_vtk_file(surface, path, ext);
     else
         write_openmesh_file(surface, path, ext);

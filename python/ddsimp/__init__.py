@@ -109,9 +109,9 @@ def read(path):
 
 
 def write(path, points, triangles=None, fields=None):
-    """Writes a surface (.vtk .vtp .ply .obj .off), from arrays or one mesh as `points`.
+    """Writes a surface (.vtk .vtp .ply .obj .off .glb), from arrays or one mesh as `points`.
 
-    Fields are kept where the format holds them (.vtk, .vtp, .ply).
+    Fields are kept where the format holds them (.vtk, .vtp, .ply, .glb).
     """
     points, triangles, fields = _unpack(points, triangles, fields)
     _ddsimp.write(str(path), points, triangles, fields)

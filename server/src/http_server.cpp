@@ -4,6 +4,7 @@
 #include "web_files.h"
 #include "websocket_transport.h"
 
+#include <boost/asio/post.hpp>
 #include <boost/beast/http.hpp>
 #include <spdlog/spdlog.h>
 
@@ -69,11 +70,26 @@ private:
         if (request_.method() != http::verb::get && request_.method() != http::verb::head) {
             res.result(http::status::method_not_allowed);
             res.body() = "only GET\n";
-        } else if (const HttpHandler* handler = server_.find_route(path)) {
-            (*handler)(request_, res);
+        } else if (const HttpServer::Route* r = server_.find_route(path)) {
+            if (r->later) {
+                // The session (and its place among the clients) lives until the reply.
+                return r->later(request_, std::move(res),
+                                [self = this->shared_from_this()](HttpResponse later) {
+                                    auto& stream = beast::get_lowest_layer(self->stream_);
+                                    asio::post(stream.get_executor(),
+                                               [self, later = std::move(later)]() mutable {
+                                                   self->send(std::move(later));
+                                               });
+                                });
+            }
+            r->now(request_, res);
         } else {
             serve_web_file(service_.config().web_dir, target, res);
         }
+        send(std::move(res));
+    }
+
+    void send(HttpResponse res) {
         res.prepare_payload();
         auto shared = std::make_shared<HttpResponse>(std::move(res));
         beast::get_lowest_layer(stream_).expires_after(timeouts().send);
@@ -147,17 +163,21 @@ HttpServer::HttpServer(Service& service, asio::ssl::context* tls) : service_(ser
 }
 
 void HttpServer::route(std::string path, HttpHandler handler) {
-    routes_[std::move(path)] = std::move(handler);
+    routes_[std::move(path)] = Route{std::move(handler), nullptr};
 }
 
-const HttpHandler* HttpServer::find_route(const std::string& path) const {
-    const HttpHandler* best = nullptr;
+void HttpServer::route_later(std::string path, HttpLaterHandler handler) {
+    routes_[std::move(path)] = Route{nullptr, std::move(handler)};
+}
+
+const HttpServer::Route* HttpServer::find_route(const std::string& path) const {
+    const Route* best = nullptr;
     size_t best_length = 0;
-    for (const auto& [route, handler] : routes_) {
+    for (const auto& [route, endpoint] : routes_) {
         const bool prefix = !route.empty() && route.back() == '/';
         const bool matches = prefix ? path.rfind(route, 0) == 0 : path == route;
         if (matches && route.size() >= best_length) {
-            best = &handler;
+            best = &endpoint;
             best_length = route.size();
         }
     }

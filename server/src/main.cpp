@@ -2,6 +2,7 @@
 // on a thread pool, and stops cleanly on SIGTERM or SIGINT.
 #include "admission.h"
 #include "config.h"
+#include "glb_download.h"
 #include "http_server.h"
 #include "listener.h"
 #include "logging.h"
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
         Service service(io, config);
         Admission admission(fit_descriptor_limit(config), service.metrics());
         HttpServer http(service, tls.get());
+        route_glb_downloads(http);
         const auto address = [](const std::string& a) { return boost::asio::ip::make_address(a); };
         Listener native_port(io, {address(config.bind), config.port},
                              native_protocol(service, tls.get()), admission, service.metrics(),

@@ -109,4 +109,16 @@ std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& comp
         });
 }
 
+std::shared_ptr<const ComputedRecord>
+record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
+           size_t depth, const std::atomic<bool>& cancelled, bool* computed) {
+    for (;;) {
+        try {
+            return reductions.record(params, key, depth, cancelled, computed);
+        } catch (const Cancelled&) {
+            if (cancelled.load()) throw;
+        }
+    }
+}
+
 } // namespace ddsimp::server

@@ -81,4 +81,10 @@ private:
     std::map<std::string, std::map<size_t, size_t>> depths_;
 };
 
+// Reductions::record, computing the record for this caller if another caller's run of the same
+// key was cancelled under it; throws Cancelled only when `cancelled` is set.
+std::shared_ptr<const ComputedRecord>
+record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
+           size_t depth, const std::atomic<bool>& cancelled, bool* computed);
+
 } // namespace ddsimp::server

@@ -8,6 +8,7 @@
 #include "computations.h"
 #include "config.h"
 #include "connection.h"
+#include "glb_download.h"
 #include "metrics.h"
 #include "reductions.h"
 #include "scheduler.h"
@@ -19,6 +20,7 @@
 #include <boost/asio/thread_pool.hpp>
 
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -57,6 +59,9 @@ public:
     void join(std::shared_ptr<Connection> c, const v1::JoinSession& join);
     void leave(Connection& c, const std::string& name);
     void set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change);
+
+    // GET /surfaces/ID/level.glb (glb_download.cpp): `done` is called on the network thread.
+    void download_glb(const GlbDownload& download, std::function<void(GlbAnswer)> done);
 
     // Closes every connection (SIGTERM) and waits for running computations.
     void stop();
@@ -116,6 +121,9 @@ private:
     std::map<std::string, ReductionParams> known_results_;
     std::deque<std::string> known_order_;
     uint64_t next_id_ = 1;
+    // All downloads take turns with the clients as this one client (connections count from 1).
+    static constexpr uint64_t kDownloadsClient = ~uint64_t(0);
+    uint64_t next_download_ = 1;
     uint64_t upload_bytes_ = 0; // reserved by uploads in progress (network thread)
     bool stopping_ = false;
 };

@@ -47,24 +47,6 @@ struct Service::RequestJob {
     bool exact_sent = false; // network thread: a level went out, so a late preview is dropped
 };
 
-namespace {
-
-// The record of `params` down to `depth`, computing it for this job if another job's run of the
-// same key was cancelled under it.
-std::shared_ptr<const ComputedRecord>
-record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
-           size_t depth, const std::atomic<bool>& cancelled, bool* computed) {
-    for (;;) {
-        try {
-            return reductions.record(params, key, depth, cancelled, computed);
-        } catch (const Cancelled&) {
-            if (cancelled.load()) throw;
-        }
-    }
-}
-
-} // namespace
-
 void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     ++metrics_.requests;
     const uint64_t rid = r.request_id();

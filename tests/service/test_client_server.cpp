@@ -399,13 +399,25 @@ TEST_F(ClientServer, RemoteCommandsEndToEnd) {
     EXPECT_EQ(id.size(), 64u);
     EXPECT_EQ(lines[0]["triangles"], 756);
 
-    CliRun list = run_cli("remote list" + server, dir_);
+    CliRun list = run_cli("remote list --json" + server, dir_);
     ASSERT_EQ(list.status, 0) << list.err;
     lines = json_lines(list.out);
     ASSERT_EQ(lines.size(), 1u);
     EXPECT_EQ(lines[0]["surface"], id);
     EXPECT_EQ(lines[0]["triangles"], 756);
     EXPECT_EQ(lines[0]["fields"].size(), 7u); // V, Temp, Pres, AsH3, GaMe3, CH4, H2
+
+    // For a person: a table of titles, a rule and one row, the columns aligned.
+    CliRun table = run_cli("remote list" + server, dir_);
+    ASSERT_EQ(table.status, 0) << table.err;
+    std::vector<std::string> rows;
+    for (size_t at = 0, end; (end = table.out.find('\n', at)) != std::string::npos; at = end + 1)
+        rows.push_back(table.out.substr(at, end - at));
+    ASSERT_EQ(rows.size(), 3u) << table.out;
+    EXPECT_EQ(rows[0].rfind("surface", 0), 0u) << rows[0];
+    EXPECT_EQ(rows[2].rfind(id, 0), 0u) << rows[2];
+    EXPECT_EQ(rows[0].find("triangles") + 9, rows[2].find(" 756 ", id.size()) + 4) << table.out;
+    EXPECT_NE(rows[2].find("V(3), Temp, Pres, AsH3, GaMe3, CH4, H2"), std::string::npos);
 
     const auto out = dir_ / "levels";
     CliRun simp = run_cli("remote simplify --surface " + id + " --alpha 0.5 --keep 0.5,0.25 -o " +

@@ -1,6 +1,8 @@
 // The same request made locally (ddsimp::simplify) and remotely (libddsimp-client through the
 // real ddsimp-server) gives identical bytes: both strategies, every placement, and alpha values a
-// float cannot hold exactly, with the library's defaults for everything a request leaves unset.
+// float cannot hold exactly, with the library's defaults for everything a request leaves unset;
+// and a level downloaded as .glb holds the same surface.
+#include "glb_reader.h"
 #include "mesh_comparison.h"
 #include "server_harness.h"
 #include "test_surfaces.h"
@@ -98,6 +100,41 @@ TEST_F(SameBytes, DefaultsAreTheLibrarys) {
     Options local;
     local.keep_fraction = 0.25;
     EXPECT_TRUE(test::same_bytes(level.mesh, simplify(input(), local).surface));
+}
+
+// GET /surfaces/ID/level.glb holds the library's result for the same options: the same
+// positions, triangles and fields (as _NAME attributes).
+TEST_F(SameBytes, ADownloadedGlbHoldsTheLibrarysLevel) {
+    for (const Case c : {Case{Strategy::EdgeCollapse, Placement::VolumePreserving, 0.3},
+                         Case{Strategy::VertexRemoval, Placement::LeastError, 0.7}}) {
+        const bool edge = c.strategy == Strategy::EdgeCollapse;
+        const std::string query = std::string("?alpha=") + (c.alpha < 0.5 ? "0.3" : "0.7") +
+                                  "&keep=0.1&strategy=" + (edge ? "edge" : "vertex") +
+                                  "&placement=" + (edge ? "volume" : "least-error");
+        SCOPED_TRACE(query);
+        const std::string response =
+            test::http_get(server_->http_port, "/surfaces/" + *surface_ + "/level.glb" + query);
+        const size_t body = response.find("\r\n\r\n");
+        ASSERT_NE(body, std::string::npos) << response;
+        ASSERT_EQ(response.rfind("HTTP/1.1 200 OK", 0), 0u) << response.substr(0, 400);
+        const test::Glb glb(response.substr(body + 4));
+
+        Options local;
+        local.alpha = c.alpha;
+        local.strategy = c.strategy;
+        local.placement = c.placement;
+        local.keep_fraction = 0.1;
+        const Surface expected = simplify(input(), local).surface;
+        const std::vector<double> positions(expected.positions.begin(), expected.positions.end());
+        EXPECT_EQ(glb.attribute("POSITION"), positions);
+        const std::vector<double> triangles(expected.triangles.begin(), expected.triangles.end());
+        EXPECT_EQ(glb.accessor(glb.primitive()["indices"]), triangles);
+        ASSERT_EQ(expected.fields.size(), 2u);
+        for (const Field& f : expected.fields)
+            EXPECT_EQ(glb.attribute("_" + f.name),
+                      std::vector<double>(f.values.begin(), f.values.end()))
+                << f.name;
+    }
 }
 
 } // namespace

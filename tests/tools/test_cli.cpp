@@ -198,6 +198,52 @@ TEST(Cli, CompareJsonOfASurfaceWithItself) {
     EXPECT_TRUE(j.contains("diagonal"));
 }
 
+// The lines of the table that starts at the line holding `header_start` (titles, dashes, rows):
+// up to the first blank line or the end.
+std::vector<std::string> table_lines(const std::string& out, const std::string& header_start) {
+    std::vector<std::string> lines;
+    size_t at = out.find(header_start);
+    if (at == std::string::npos) return lines;
+    at = out.rfind('\n', at) + 1;
+    while (at < out.size()) {
+        const size_t end = out.find('\n', at);
+        const std::string line = out.substr(at, end - at);
+        if (line.empty()) break;
+        lines.push_back(line);
+        at = end + 1;
+    }
+    return lines;
+}
+
+// A table whose last column is right-aligned: every line as long as the rule of dashes, and each
+// column's rule as wide as its widest cell, so the columns line up.
+void expect_aligned(const std::vector<std::string>& lines, size_t rows) {
+    ASSERT_EQ(lines.size(), 2 + rows);
+    EXPECT_NE(lines[1].find("--"), std::string::npos) << lines[1];
+    for (const std::string& line : lines) EXPECT_EQ(line.size(), lines[1].size()) << line;
+}
+
+TEST(Cli, InfoPrintsAnAlignedFieldTable) {
+    ScratchDir dir;
+    const CliRun run = ddsimp_cli(dir, {"info", sample_surface()});
+    ASSERT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.out.find("triangles              756"), std::string::npos) << run.out;
+    const auto lines = table_lines(run.out, "field "); // not the "fields  7" line
+    expect_aligned(lines, 9);                          // V's three components and six scalars
+    EXPECT_EQ(lines[2].substr(2, 4), "V[0]");
+    EXPECT_NE(lines.back().find("H2"), std::string::npos);
+}
+
+TEST(Cli, ComparePrintsAnAlignedTable) {
+    ScratchDir dir;
+    const CliRun run = ddsimp_cli(dir, {"compare", sample_surface(), sample_surface()});
+    ASSERT_EQ(run.status, 0) << run.err;
+    const auto lines = table_lines(run.out, "error of");
+    expect_aligned(lines, 8); // distance and seven fields
+    EXPECT_NE(lines[2].find("distance"), std::string::npos);
+    EXPECT_NE(lines[2].find("0.0000e+00"), std::string::npos) << lines[2]; // itself: no error
+}
+
 TEST(Cli, IsosurfaceWritesTheSurfaceWithFields) {
     const std::string volume = shared_data("volumes/disk_out_ref.ex2");
     DDSIMP_REQUIRE_SHARED(volume);

@@ -11,6 +11,8 @@
 //                                white space in names becomes '_'
 //   .obj, .off      yes   yes    none (the formats hold no per-vertex data)
 //   .stl            yes   no     none
+//   .glb (glTF)     no    yes    all, as custom vertex attributes "_name"; one field also as
+//                                vertex colours (see ddsimp/protocol/glb.h)
 #pragma once
 
 #include "ddsimp/ddsimp.h"
@@ -32,10 +34,18 @@ struct IoError : std::runtime_error {
 // file without triangles. The surface is returned as stored (no repair; see ddsimp::validate).
 Surface read_surface(const std::string& path);
 
+// What only a .glb takes: the field shown as colours ("" : the first scalar that varies) and
+// EXT_meshopt_compression.
+struct WriteOptions {
+    std::string colour_field;
+    bool meshopt = false;
+};
+
 // Writes a surface, the format chosen by the extension; fields are kept where the format can hold
-// them (see the table above). The bytes depend only on the surface (no timestamps). Throws
-// IoError if the file cannot be written or the extension is not a writable format.
-void write_surface(const Surface& surface, const std::string& path);
+// them (see the table above). The bytes depend only on the surface and options (no timestamps).
+// Throws IoError if the file cannot be written or the extension is not a writable format.
+void write_surface(const Surface& surface, const std::string& path,
+                   const WriteOptions& options = {});
 
 // Throws the IoError write_surface would throw for an unknown extension or a file that cannot be
 // created, so that a command fails before a long computation rather than after it.

@@ -1,0 +1,259 @@
+// The .glb download: its query, its route, and Service::download_glb (declared in service.h).
+#include "glb_download.h"
+
+#include "http_server.h"
+#include "log_text.h"
+#include "service.h"
+
+#include "ddsimp/protocol/glb.h"
+#include "ddsimp/protocol/reduction_options.h"
+
+#include <boost/beast/http/field.hpp>
+#include <spdlog/spdlog.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace ddsimp::server {
+
+namespace {
+
+constexpr std::string_view kPrefix = "/surfaces/";
+constexpr std::string_view kSuffix = "/level.glb";
+
+int hex_digit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+// %XX and '+' decoded; nullopt for a broken escape.
+std::optional<std::string> url_decode(std::string_view s) {
+    std::string out;
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '+') {
+            out += ' ';
+        } else if (s[i] == '%') {
+            if (i + 2 >= s.size()) return std::nullopt;
+            const int hi = hex_digit(s[i + 1]), lo = hex_digit(s[i + 2]);
+            if (hi < 0 || lo < 0) return std::nullopt;
+            out += char(16 * hi + lo);
+            i += 2;
+        } else {
+            out += s[i];
+        }
+    }
+    return out;
+}
+
+std::optional<double> number(const std::string& text) {
+    double x = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
+    if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(x))
+        return std::nullopt;
+    return x;
+}
+
+} // namespace
+
+GlbDownload parse_glb_download(std::string_view target, std::string_view authorization) {
+    GlbDownload d;
+    const size_t q = target.find('?');
+    const std::string_view path = target.substr(0, q);
+    if (!(path.size() > kPrefix.size() + kSuffix.size() && path.starts_with(kPrefix) &&
+          path.ends_with(kSuffix))) {
+        d.error = "no such path: " + std::string(path) + " (/surfaces/ID/level.glb)";
+        return d;
+    }
+    d.surface =
+        std::string(path.substr(kPrefix.size(), path.size() - kPrefix.size() - kSuffix.size()));
+    if (d.surface.find('/') != std::string::npos) {
+        d.error = "no such path: " + std::string(path) + " (/surfaces/ID/level.glb)";
+        return d;
+    }
+    std::map<std::string, std::string> params;
+    std::string_view rest = q == std::string_view::npos ? std::string_view() : target.substr(q + 1);
+    while (!rest.empty()) {
+        const size_t amp = rest.find('&');
+        const std::string_view pair = rest.substr(0, amp);
+        rest = amp == std::string_view::npos ? std::string_view() : rest.substr(amp + 1);
+        if (pair.empty()) continue;
+        const size_t eq = pair.find('=');
+        const auto name = url_decode(pair.substr(0, eq));
+        const auto value =
+            url_decode(eq == std::string_view::npos ? std::string_view() : pair.substr(eq + 1));
+        if (!name || !value) {
+            d.error = "a broken %-escape in the query";
+            return d;
+        }
+        params[*name] = *value;
+    }
+    // The options as a Request carries them, so that they become the same Options.
+    v1::Request request;
+    for (const auto& [name, value] : params) {
+        if (name == "alpha" || name == "keep") {
+            const auto x = number(value);
+            const bool ok = x && (name == "alpha" ? *x >= 0 && *x <= 1 : *x > 0 && *x <= 1);
+            if (!ok) {
+                d.error = name + "=" + value + " is not a number in " +
+                          (name == "alpha" ? "[0, 1]" : "(0, 1]");
+                return d;
+            }
+            if (name == "alpha") {
+                request.set_alpha(float(*x));
+                request.set_alpha_exact(*x);
+            } else {
+                d.keep = float(*x);
+            }
+        } else if (name == "strategy") {
+            if (value != "edge" && value != "vertex") {
+                d.error = "strategy=" + value + ": edge or vertex";
+                return d;
+            }
+            request.set_strategy(protocol::to_wire(value == "edge" ? Strategy::EdgeCollapse
+                                                                   : Strategy::VertexRemoval));
+        } else if (name == "placement") {
+            if (value == "least-error")
+                request.set_placement(protocol::to_wire(Placement::LeastError));
+            else if (value == "midpoint")
+                request.set_placement(protocol::to_wire(Placement::Midpoint));
+            else if (value == "volume")
+                request.set_placement(protocol::to_wire(Placement::VolumePreserving));
+            else {
+                d.error = "placement=" + value + ": least-error, midpoint or volume";
+                return d;
+            }
+        } else if (name == "field") {
+            d.field = value;
+        } else if (name == "meshopt") {
+            d.meshopt = value == "1" || value == "true";
+        } else if (name == "token") {
+            d.token = value;
+        } else if (name == "session") {
+            d.session = value;
+        } else if (name == "key") {
+            d.key = value;
+        } else {
+            d.error = "unknown parameter '" + name +
+                      "' (alpha, keep, strategy, placement, field, meshopt, token, session, key)";
+            return d;
+        }
+    }
+    if (!request.has_alpha_exact()) {
+        request.set_alpha(0.5f);
+        request.set_alpha_exact(0.5);
+    }
+    try {
+        d.options = protocol::options_from(request);
+    } catch (const InputError& e) {
+        d.error = e.what();
+        return d;
+    }
+    constexpr std::string_view kBearer = "Bearer ";
+    if (d.token.empty() && authorization.starts_with(kBearer))
+        d.token = std::string(authorization.substr(kBearer.size()));
+    return d;
+}
+
+std::set<std::string> glb_download_scopes(const GlbDownload& d) {
+    std::set<std::string> scopes{kPublicScope};
+    if (d.session) scopes.insert(session_scope(*d.session, d.key));
+    return scopes;
+}
+
+void route_glb_downloads(HttpServer& http) {
+    http.route_later(std::string(kPrefix), [&service = http.service()](const HttpRequest& request,
+                                                                       HttpResponse res,
+                                                                       HttpReply reply) {
+        namespace http = boost::beast::http;
+        const auto target = request.target();
+        const auto authorization = request[http::field::authorization];
+        const GlbDownload d =
+            parse_glb_download(std::string_view(target.data(), target.size()),
+                               std::string_view(authorization.data(), authorization.size()));
+        service.download_glb(d,
+                             [res = std::move(res), reply = std::move(reply)](GlbAnswer a) mutable {
+                                 res.result(http::status(a.status));
+                                 res.set(http::field::content_type, a.content_type);
+                                 if (a.status == 503) res.set(http::field::retry_after, "10");
+                                 if (!a.filename.empty())
+                                     res.set(http::field::content_disposition,
+                                             "attachment; filename=\"" + a.filename + "\"");
+                                 res.body() = std::move(a.body);
+                                 reply(std::move(res));
+                             });
+    });
+}
+
+void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> done) {
+    const auto refuse = [&](int status, const std::string& why) {
+        done(GlbAnswer{status, "text/plain; charset=utf-8", why + "\n", ""});
+    };
+    if (!d.error.empty()) return refuse(d.error.starts_with("no such path") ? 404 : 400, d.error);
+    const std::string& token = config_.token;
+    unsigned char diff = token.size() != d.token.size();
+    for (size_t i = 0; i < token.size(); ++i)
+        diff |= static_cast<unsigned char>(token[i] ^ (i < d.token.size() ? d.token[i] : 0));
+    if (diff)
+        return refuse(401, d.token.empty() ? "this server needs a token (token=T)" : "wrong token");
+    const auto stored = store_.find(d.surface, glb_download_scopes(d));
+    if (!stored) return refuse(404, "no surface " + d.surface);
+
+    ReductionParams params{d.surface, d.options};
+    const std::string key = protocol::result_key(params.surface, params.options);
+    protocol::GlbOptions options;
+    options.colour_field = d.field;
+    options.meshopt = d.meshopt;
+    options.name = stored->name.empty() ? d.surface : stored->name;
+    char level[64];
+    std::snprintf(level, sizeof level, "-alpha%g-keep%g", d.options.alpha, double(d.keep));
+    const std::string filename = d.surface.substr(0, 12) + level + ".glb";
+    const size_t depth = protocol::target_for_keep(d.keep, stored->triangles);
+
+    // The download waits for the record as a request does: a computation it shares goes on.
+    const std::string waiter = "download/" + std::to_string(next_download_++);
+    const CancelFlag cancelled = computations_.wait(key, waiter);
+    auto finish = std::make_shared<std::function<void(GlbAnswer)>>(std::move(done));
+    const bool queued = compute(kDownloadsClient, [this, params, key, depth, keep = d.keep, options,
+                                                   filename, waiter, cancelled,
+                                                   ranges = stored->fields, finish]() mutable {
+        GlbAnswer answer;
+        try {
+            bool computed = false;
+            auto rec = record_for(reductions_, params, key, depth, *cancelled, &computed);
+            const ProgressiveRecord& record = rec->record;
+            const Surface s = record.after(
+                record.operations_for(protocol::target_for_keep(keep, record.triangles_in())));
+            // The field is chosen on the whole surface, and a scalar is coloured over the whole
+            // surface's range, as the page colours it.
+            if (const Field* f =
+                    protocol::glb_colour_field(record.vertices(), options.colour_field))
+                options.colour_field = f->name;
+            for (const auto& f : ranges)
+                if (f.name == options.colour_field && f.components == 1)
+                    options.colour_range = protocol::ColourRange{f.min, f.max};
+            answer = GlbAnswer{200, "model/gltf-binary", protocol::write_glb(s, options), filename};
+        } catch (const protocol::GlbError& e) {
+            answer = GlbAnswer{400, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+        } catch (const std::invalid_argument& e) {
+            answer = GlbAnswer{404, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+        } catch (const std::exception& e) {
+            spdlog::warn("GET {}.glb: {}", loggable(params.surface), loggable(e.what()));
+            answer = GlbAnswer{422, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+        }
+        boost::asio::post(io_, [this, key, waiter, finish, answer = std::move(answer)]() mutable {
+            computations_.leave(key, waiter);
+            (*finish)(std::move(answer));
+        });
+    });
+    if (!queued) {
+        computations_.leave(key, waiter);
+        (*finish)(GlbAnswer{503, "text/plain; charset=utf-8",
+                            "too many downloads waiting; try again later\n", ""});
+    }
+}
+
+} // namespace ddsimp::server
