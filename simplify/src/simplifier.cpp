@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <atomic>
 #include <numbers>
 
 namespace ddsimp {
@@ -65,7 +64,6 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     raised_.assign(ids, 0);
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, 0);
-    claim_.assign(capacity, kFree);
     rekey_.assign(capacity, 0);
     if (collapse) fail_at_.assign(surface.triangles.size(), kNone);
 
@@ -264,24 +262,44 @@ bool Simplifier::rank_candidates(size_t& share) {
     return true;
 }
 
-size_t Simplifier::neighbourhood(uint32_t id, uint32_t* out, size_t max) const {
-    size_t n = 0;
-    bool fits = true;
-    auto add_star = [&](uint32_t v) {
-        fits = fits && n < max;
-        if (fits) out[n++] = v;
-        mesh_.for_each_edge(v, [&](uint32_t, uint32_t u, bool) {
-            fits = fits && n < max;
-            if (fits) out[n++] = u;
-        });
+template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) const {
+    auto star = [&](uint32_t v) {
+        if (!visit(v)) return false;
+        const uint32_t start = mesh_.out[v];
+        uint32_t h = start, last = kNone;
+        do {
+            if (!visit(mesh_.dest(h))) return false;
+            last = h;
+            h = mesh_.twin[detail::prev(h)];
+        } while (h != kNone && h != start);
+        const uint32_t closing = detail::prev(last); // on a boundary, the fan's other side
+        return mesh_.twin[closing] != kNone || visit(mesh_.origin[closing]);
     };
-    if (options_.strategy == Strategy::EdgeCollapse) {
-        add_star(mesh_.origin[id]);
-        add_star(mesh_.dest(id));
-    } else {
-        add_star(id);
-    }
-    return fits ? n : 0;
+    return options_.strategy == Strategy::EdgeCollapse
+               ? star(mesh_.origin[id]) && star(mesh_.dest(id))
+               : star(id);
+}
+
+Simplifier::Reserve Simplifier::reserve(uint32_t id, uint32_t taken_stamp) {
+    uint32_t near[kMaxNeighbourhood];
+    size_t n = 0;
+    Reserve found = Reserve::Selected;
+    walk_neighbourhood(id, [&](uint32_t v) {
+        if (busy_[v] == taken_stamp || n == kMaxNeighbourhood)
+            found = Reserve::Out;
+        else if (busy_[v] == round_stamp_)
+            found = Reserve::Blocked;
+        else
+            near[n++] = v;
+        return found == Reserve::Selected;
+    });
+    if (found == Reserve::Selected)
+        for (size_t i = 0; i < n; ++i) busy_[near[i]] = round_stamp_;
+    return found;
+}
+
+void Simplifier::stamp_neighbourhood(uint32_t id, uint32_t stamp) {
+    walk_neighbourhood(id, [&](uint32_t v) { return busy_[v] = stamp, true; });
 }
 
 bool Simplifier::waits(uint32_t id, float key, float planned) {
@@ -317,133 +335,73 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     share_limit_ = order_[share - 1].weight();
     ++pass_;
 
-    // Select: a contender is taken when it is the lightest (by rank in order_) of every
-    // contender whose neighbourhood meets its own, and its check passes; rounds repeat this among
-    // the contenders that no taken operation touches. Each step depends on the contenders alone,
-    // never on the order in which threads reach them.
-    contenders_.clear();
-    for (uint32_t i = 0; i < share; ++i)
-        if (order_[i].weight() <= options_.max_weight) contenders_.push_back(i);
+    // Select, in rank order: a candidate whose neighbourhood no candidate selected before it
+    // touches reserves that neighbourhood. The selection is sequential and cheap (a walk that
+    // stops at the first reserved vertex); the checks, the costly part, then run on the threads,
+    // each on the surface as the pass found it. What is selected never depends on a check being
+    // done yet, so nothing depends on the thread count. Rounds repeat this among the candidates
+    // that only a refused or waiting one blocked: its neighbourhood is free again.
     taken_.clear();
-    // Each contender's neighbourhood, once per pass (near_ from near_begin_[c]; a kFree after
-    // the last vertex when it holds fewer than its room, or first when it is out of the pass).
-    const size_t k = contenders_.size();
-    near_begin_.resize(k + 1);
-    near_begin_[0] = 0;
-    for (size_t c = 0; c < k; ++c) {
-        const uint32_t id = pool_[order_[contenders_[c]].id].id;
-        const size_t most = collapse ? size_t(mesh_.valence[mesh_.origin[id]]) +
-                                           mesh_.valence[mesh_.dest(id)] + 2
-                                     : size_t(mesh_.valence[id]) + 1;
-        near_begin_[c + 1] = near_begin_[c] + uint32_t(std::min(most, kMaxNeighbourhood));
-    }
-    near_.resize(near_begin_[k]);
-    if (in_blocks(k, [&](size_t begin, size_t end) {
-            for (size_t c = begin; c < end; ++c) {
-                uint32_t* near = &near_[near_begin_[c]];
-                const size_t room = near_begin_[c + 1] - near_begin_[c];
-                const size_t n = neighbourhood(pool_[order_[contenders_[c]].id].id, near, room);
-                if (n < room) near[n] = kFree;
+    pending_.clear();
+    for (uint32_t i = 0; i < share && order_[i].weight() <= options_.max_weight; ++i)
+        pending_.push_back(i);
+    const uint32_t taken_stamp = ++stamp_;
+    for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
+        round_stamp_ = ++stamp_;
+        selected_.clear();
+        size_t next = 0;
+        for (size_t j = 0; j < pending_.size(); ++j) {
+            const uint32_t i = pending_[j];
+            switch (reserve(pool_[order_[i].id].id, taken_stamp)) {
+            case Reserve::Selected:
+                selected_.push_back(i);
+                break;
+            case Reserve::Blocked:
+                pending_[next++] = i;
+                break; // by this round's selection
+            case Reserve::Out:
+                break; // next to a taken operation, or too large
             }
-        }) < k)
-        return stop = StopReason::Cancelled, true;
-    auto near_end = [&](size_t c) {
-        const uint32_t* b = &near_[near_begin_[c]];
-        const uint32_t* e = &near_[near_begin_[c + 1]];
-        return std::find(b, e, kFree);
-    };
-    won_.assign(k, 0);
-    active_.resize(k);
-    for (uint32_t c = 0; c < k; ++c) active_[c] = c;
-    for (int round = 0; round < kSelectionRounds && !active_.empty(); ++round) {
-        const size_t n_active = active_.size();
-        // Claim: every vertex keeps the lightest contender whose neighbourhood holds it. A
-        // contender next to an operation taken in an earlier round is out of the pass.
-        size_t ok = in_blocks(n_active, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const uint32_t c = active_[i], rank = contenders_[c];
-                uint32_t* near = &near_[near_begin_[c]];
-                const uint32_t* e = near_end(c);
-                bool free = near != e;
-                for (const uint32_t* v = near; v != e && free; ++v) free = busy_[*v] != pass_;
-                if (!free) {
-                    near[0] = kFree;
-                    continue;
-                }
-                for (const uint32_t* v = near; v != e; ++v) {
-                    std::atomic_ref<uint32_t> claim(claim_[*v]);
-                    uint32_t now = claim.load(std::memory_order_relaxed);
-                    while (rank < now && !claim.compare_exchange_weak(now, rank,
-                                                                      std::memory_order_relaxed)) {
-                    }
-                }
-            }
-        });
-        if (ok < n_active) return stop = StopReason::Cancelled, true;
-        // Won: the contender holds every vertex of its neighbourhood. Then checked, on the
-        // surface as the pass found it (no taken operation touches what it reads).
-        ok = in_blocks(n_active, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const uint32_t c = active_[i], rank = contenders_[c];
-                const uint32_t* b = &near_[near_begin_[c]];
-                const uint32_t* e = near_end(c);
-                bool wins = b != e;
-                for (const uint32_t* v = b; v != e && wins; ++v)
-                    wins = std::atomic_ref<uint32_t>(claim_[*v]).load(std::memory_order_relaxed) ==
-                           rank;
-                won_[c] = wins;
-            }
-        });
-        if (ok < n_active) return stop = StopReason::Cancelled, true;
-        parallel_.for_each(n_active, [&](size_t i) {
-            const uint32_t c = active_[i];
-            for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
-                std::atomic_ref<uint32_t>(claim_[*v]).store(kFree, std::memory_order_relaxed);
-        });
-        winners_.clear();
-        for (const uint32_t c : active_)
-            if (won_[c]) winners_.push_back(c);
-        const size_t w = winners_.size();
+            if ((j + 1) % kBlock == 0 && !checkpoint()) return stop = StopReason::Cancelled, true;
+        }
+        pending_.resize(next);
+        const size_t w = selected_.size();
         checked_.resize(w);
         if (collapse)
             plans_.resize(w);
         else
-            slots_.resize(w), removed_.resize(w);
-        ok = in_blocks(w, [&](size_t begin, size_t end) {
-            for (size_t i = begin; i < end; ++i) {
-                const uint32_t c = winners_[i];
-                Member& m = pool_[order_[contenders_[c]].id];
-                checked_[i] = collapse ? check_collapse(m, plans_[i])
-                                       : check_removal(m.id, slots_[i], removed_[i]);
-                if (checked_[i] == Check::Taken)
-                    for (const uint32_t *v = &near_[near_begin_[c]], *e = near_end(c); v != e; ++v)
-                        busy_[*v] = pass_;
-            }
-        });
-        if (ok < w) return stop = StopReason::Cancelled, true;
-        // The taken ones; the others that did not win (and are not out) contend again.
+            removals_.resize(w);
+        if (in_blocks(w, [&](size_t begin, size_t end) {
+                for (size_t i = begin; i < end; ++i) {
+                    Member& m = pool_[order_[selected_[i]].id];
+                    checked_[i] =
+                        collapse ? check_collapse(m, plans_[i]) : check_removal(m.id, removals_[i]);
+                }
+            }) < w)
+            return stop = StopReason::Cancelled, true;
+        // The taken ones keep their neighbourhoods for the rest of the pass.
+        bool freed = false;
         for (size_t i = 0; i < w; ++i) {
-            if (checked_[i] != Check::Taken) continue;
-            const uint32_t rank = contenders_[winners_[i]];
-            if (collapse) { // plans_ is overwritten by the next round
+            if (checked_[i] != Check::Taken) {
+                freed = true;
+                continue;
+            }
+            const uint32_t rank = selected_[i];
+            stamp_neighbourhood(pool_[order_[rank].id].id, taken_stamp);
+            if (collapse) {
                 taken_.push_back({rank, uint32_t(taken_plans_.size())});
                 taken_plans_.push_back(plans_[i]);
             } else {
-                taken_.push_back({rank, uint32_t(taken_slots_.size())});
-                taken_slots_.push_back(slots_[i]);
-                taken_removed_.push_back(removed_[i]);
+                taken_.push_back({rank, uint32_t(taken_removals_.size())});
+                taken_removals_.push_back(removals_[i]);
             }
         }
-        size_t next = 0;
-        for (const uint32_t c : active_)
-            if (!won_[c] && near_[near_begin_[c]] != kFree) active_[next++] = c;
-        active_.resize(next);
-        if (w == 0) break;
+        if (!freed) break; // nothing blocked now is free in another round
     }
+    std::sort(taken_.begin(), taken_.end());
 
     // Apply in key order, as far as the target: a direct run to any target stops at the first
     // operation that reaches it, so every run is a prefix of the one record.
-    std::sort(taken_.begin(), taken_.end());
     size_t live = mesh_.live_triangles, count = taken_.size();
     write_at_.clear();
     size_t writes = record_.writes_.size();
@@ -453,9 +411,10 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         if (collapse) {
             removed = mesh_.twin[taken_plans_[t].halfedge] != kNone ? 2 : 1;
         } else {
-            removed = taken_removed_[t];
+            const Removal& r = taken_removals_[t];
+            removed = r.slots() - r.new_count;
             write_at_.push_back(uint32_t(writes));
-            writes += 4 * size_t(taken_slots_[t]);
+            writes += 4 * r.slots();
             record_.write_begin_.push_back(uint32_t(writes));
         }
         live -= removed;
@@ -480,9 +439,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
             if (collapse) {
                 apply_collapse(taken_plans_[t], operations_ + j);
             } else {
-                RemovalPlan plan;
-                plan_removal(pool_[order_[taken_[j].first].id].id, plan);
-                apply_removal(plan, operations_ + j, write_at_[j]);
+                apply_removal(taken_removals_[t], operations_ + j, write_at_[j]);
             }
         }
     });
@@ -502,7 +459,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     operations_ += applied;
     mesh_.live_triangles = live;
     for (size_t j = 0; j < applied && collapse; ++j) list_edges_of(news_[j]);
-    taken_plans_.clear(), taken_slots_.clear(), taken_removed_.clear();
+    taken_plans_.clear(), taken_removals_.clear();
     if (applied < count) return stop = StopReason::Cancelled, true;
     if (live <= target) return stop = StopReason::TargetReached, true;
     if (!checkpoint()) return stop = StopReason::Cancelled, true;

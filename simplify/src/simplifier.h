@@ -1,9 +1,9 @@
 // One simplification run: the weights, the passes, the two strategies and the record they write.
 // Pipeline: build the half-edge mesh -> classify vertices -> weigh -> per pass: rank the
-// candidates, keep the lightest share, select the operations that are the lightest of every
-// operation whose neighbourhood they touch (a deterministic independent set), check them on the
-// untouched surface, apply them, record them in key order -> repeat until the target. Selection,
-// checks and application run on Options::threads threads; the output does not depend on it.
+// candidates, keep the lightest share, select in rank order those whose neighbourhoods no
+// lighter selected one touches (an independent set), check them on the untouched surface, apply
+// the ones that pass, record them in key order -> repeat until the target. Ranking, checks and
+// application run on Options::threads threads; the output does not depend on it.
 #pragma once
 
 #include "ddsimp/ddsimp.h"
@@ -56,8 +56,8 @@ private:
             return {{0, uint8_t(ring_size - 1), 0}, {0.5, 0.5, 0}, 2};
         }
     };
-    // The re-triangulation of a removed vertex's star; filled by plan_removal.
-    struct RemovalPlan {
+    // What applying a removal needs: the star and its re-triangulation.
+    struct Removal {
         uint32_t vertex;
         size_t ring_size;
         bool boundary;
@@ -65,21 +65,24 @@ private:
         uint32_t star[kMaxValence];       // the star's triangle slots, in ring order
         uint32_t outer_twin[kMaxValence]; // twin of polygon edge i (ring[i] -> ring[i+1])
         uint8_t outer_line[kMaxValence];
-        detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
-        bool star_faces_along;                 // every star triangle faces its corners' way
         size_t new_count;
-        uint8_t triangles[kMaxValence][3]; // new triangles as indices into ring
-        double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
+        uint8_t triangles[kMaxValence][3];  // new triangles as indices into ring
         int feature_a = -1, feature_b = -1; // a feature line's two ends (indices into ring)
         Cover cover;                        // where the new triangles pass v
+        // The triangle slots it rewrites (the record's writes): its star's, on a boundary one
+        // fewer than its ring.
+        size_t slots() const { return boundary ? ring_size - 1 : ring_size; }
+    };
+    // The re-triangulation of a removed vertex's star, with what planning it reads; filled by
+    // plan_removal.
+    struct RemovalPlan : Removal {
+        detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
+        bool star_faces_along;                 // every star triangle faces its corners' way
+        double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
     };
 
     // The share of a pass's candidates, lightest first, that the pass selects from.
     static constexpr double kPassShare = 0.25;
-    // Rounds of selection per pass: each takes, among the share's candidates that no operation
-    // taken so far touches, those that are the lightest of every candidate whose neighbourhood
-    // meets theirs.
-    static constexpr int kSelectionRounds = 16;
     // Items of a parallel stage between two progress calls (see checkpoint).
     static constexpr size_t kBlock = 8192;
 
@@ -100,10 +103,19 @@ private:
     bool rank_candidates(size_t& share);
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
-    // The vertices a candidate's operation reads or changes: the vertices it moves or removes
-    // and their neighbours (some twice), into out[0..max); returns their number (0: more).
+    // Selection rounds per pass (see run_pass).
+    static constexpr int kSelectionRounds = 2;
+    // A candidate's neighbourhood: the vertices its operation reads or changes (those it moves or
+    // removes and their neighbours, some twice). walk_neighbourhood calls visit(v) on each until
+    // it returns false; returns whether it went through all.
     static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
-    size_t neighbourhood(uint32_t id, uint32_t* out, size_t max) const;
+    template <class F> bool walk_neighbourhood(uint32_t id, F&& visit) const;
+    // Selected: candidate `id`'s neighbourhood was free and is now reserved for this round.
+    // Blocked: a candidate selected earlier in this round holds part of it. Out: it touches an
+    // operation taken this pass (busy_ == taken_stamp) or is larger than kMaxNeighbourhood.
+    enum class Reserve : uint8_t { Selected, Blocked, Out };
+    Reserve reserve(uint32_t id, uint32_t taken_stamp);
+    void stamp_neighbourhood(uint32_t id, uint32_t stamp);
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
     // f(begin, end) over [0, n) on the threads, block by block of kBlock items, with a progress
@@ -176,9 +188,9 @@ private:
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
                                const double (*xy)[2], Cover& cover) const;
     // Applies a planned removal as the record's operation `index`, its writes from `write_at`.
-    void apply_removal(const RemovalPlan& plan, size_t index, size_t write_at);
-    // `slots`: the star's triangle slots (the record's writes), `removed`: triangles it removes.
-    Check check_removal(uint32_t v, uint32_t& slots, uint32_t& removed);
+    void apply_removal(const Removal& plan, size_t index, size_t write_at);
+    // Taken: `removal` holds what applying it needs.
+    Check check_removal(uint32_t v, Removal& removal);
 
     Options options_;
     detail::Parallel parallel_;
@@ -214,29 +226,25 @@ private:
     std::vector<uint8_t> listed_;
     // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
     std::vector<detail::Candidate> order_, scratch_;
-    // busy_[v] == pass_: v is in the neighbourhood of an operation this pass takes, so the pass
-    // takes no other operation that reads or changes it.
+    // busy_[v]: the stamp of what last reserved v. Each pass has a stamp for its taken
+    // operations' neighbourhoods and each selection round one for what it selected (stamp_
+    // counts them), so nothing needs clearing between rounds or passes.
     std::vector<uint32_t> busy_;
-    // Per vertex, during a selection round: the lightest contender (its rank in order_) whose
-    // neighbourhood holds the vertex; kFree when none.
-    static constexpr uint32_t kFree = 0xffffffffu;
-    std::vector<uint32_t> claim_;
-    // A pass's contenders (ranks in order_), their neighbourhoods (near_ from near_begin_[k]),
-    // whether each won its round; the winners (indices into contenders_), what each one's check
-    // found and its plan.
-    std::vector<uint32_t> contenders_, near_, near_begin_, winners_;
-    std::vector<uint32_t> active_; // the contenders (indices) still in the pass's selection
-    std::vector<uint8_t> won_;
+    uint32_t stamp_ = 0, round_stamp_ = 0;
+    // A pass's candidates still in its selection, those a round selected (ranks in order_,
+    // ascending), what each one's check found and what its operation needs when applied.
+    std::vector<uint32_t> pending_, selected_;
     std::vector<Check> checked_;
     std::vector<CollapsePlan> plans_;
-    std::vector<uint32_t> slots_, removed_;
-    // The operations a pass takes: (rank in order_, contender index), sorted by rank.
+    std::vector<Removal> removals_;
+    // The operations a pass takes: (rank in order_, index into the taken_* lists), sorted by
+    // rank; what each needs when applied, then the new vertices and where each removal's writes
+    // go in the record.
     std::vector<std::pair<uint32_t, uint32_t>> taken_;
-    // What the taken operations need when applied: edge collapse's plans and new vertices,
-    // vertex removal's slot counts, removed triangles and where its writes go in the record.
     std::vector<CollapsePlan> taken_plans_;
-    std::vector<uint32_t> news_, taken_slots_, taken_removed_, write_at_;
-    size_t target_ = 0;     // of the run (for the progress fraction only)
+    std::vector<Removal> taken_removals_;
+    std::vector<uint32_t> news_, write_at_;
+    size_t target_ = 0;      // of the run (for the progress fraction only)
     bool cancelled_ = false; // Options::progress asked to stop
     // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
     // changed; a pool member's key is computed again when an end's rekey_ is newer than it.

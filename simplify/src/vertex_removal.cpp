@@ -411,7 +411,7 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
     return plan.new_count == n - 2;
 }
 
-void Simplifier::apply_removal(const RemovalPlan& plan, size_t index, size_t write_at) {
+void Simplifier::apply_removal(const Removal& plan, size_t index, size_t write_at) {
     WorkingMesh& m = mesh_;
     const size_t n = plan.ring_size, fan = plan.boundary ? n - 1 : n;
     const bool consecutive_feature =
@@ -485,15 +485,15 @@ void Simplifier::apply_removal(const RemovalPlan& plan, size_t index, size_t wri
     (void)index; // the record's write_begin_ already holds where operation `index` ends
     // The input surface v stood for is now spanned by the new triangle that passes it: its error
     // quadric goes to that triangle's corners by v's barycentric weights there, as a collapse's
-    // goes to the vertex that replaces it. (Shared equally among the ring, as before algorithm
-    // version 11, the error of v's input spread to ring vertices far from it.)
+    // goes to the vertex that replaces it. (Shared equally among the ring, the error of v's input
+    // would spread to ring vertices far from it.)
     if (quadric_terms_)
         for (size_t k = 0; k < plan.cover.count; ++k)
             quadrics_.add(plan.ring[plan.cover.corner[k]], plan.vertex, plan.cover.weight[k]);
     refresh_around(plan.ring, n, n);
 }
 
-Simplifier::Check Simplifier::check_removal(uint32_t v, uint32_t& slots, uint32_t& removed) {
+Simplifier::Check Simplifier::check_removal(uint32_t v, Removal& removal) {
     RemovalPlan plan;
     if (!plan_removal(v, plan)) {
         fail_[v] = pass_; // no candidate until its star changes
@@ -507,8 +507,7 @@ Simplifier::Check Simplifier::check_removal(uint32_t v, uint32_t& slots, uint32_
         rekey_[v] = pass_;
         return Check::Waits;
     }
-    slots = uint32_t(plan.boundary ? plan.ring_size - 1 : plan.ring_size);
-    removed = slots - uint32_t(plan.new_count);
+    removal = plan;
     return Check::Taken;
 }
 
