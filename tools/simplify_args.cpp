@@ -74,8 +74,8 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
         ->capture_default_str();
     command
         .add_option("--threads", args.threads,
-                    "Threads for the set-up stages and the keys of each pass (same output)")
-        ->check(CLI::Range(1, 1024))
+                    "Threads that simplify, 0 for every hardware thread (the output is the same)")
+        ->check(CLI::Range(0, 1024))
         ->capture_default_str();
     command.add_flag("--json", args.json, "Print one JSON object instead of a summary");
 }

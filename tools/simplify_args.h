@@ -28,7 +28,7 @@ struct SimplifyArgs {
     double feature_angle = Options{}.feature_angle;
     double line_tolerance = Options{}.line_tolerance;
     double max_normal_turn = Options{}.max_normal_turn;
-    int threads = 1;
+    int threads = Options{}.threads; // 0: every hardware thread
     bool json = false;
     std::string colour_by; // .glb output: the field shown as colours
     bool meshopt = false;  // .glb output: EXT_meshopt_compression

@@ -181,9 +181,11 @@ TEST_F(AnswersAtOnce, AComputationAnotherClientWaitsForGoesOn) {
     request.surface = first.upload(input, "sphere").surface;
     request.keep = {0.05};
     request.encoding = Encoding::Raw;
-    PendingRequest a = first.request(request);
+    // The second client's request starts the computation; the first's joins it, and its cancel
+    // follows it on the same connection.
     PendingRequest b = second.request(request);
     ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 1));
+    PendingRequest a = first.request(request);
     first.cancel(a.id);
     EXPECT_EQ(error_of(a.levels[0]), ErrorCode::Cancelled);
     EXPECT_TRUE(test::same_bytes(b.levels[0].get().mesh, offline(input, 0.5, 0.05)));

@@ -37,6 +37,7 @@ int run(int argc, char** argv) {
                  "Exit status: 0 success, 1 input or I/O error, 2 usage error."};
     app.require_subcommand(1);
     SimplifyArgs args;
+    args.threads = 1; // one per rank: the ranks share a node's cores
     CLI::App* simplify = app.add_subcommand(
         "simplify",
         "Reduce a surface, keeping its topology: one piece per rank, then a final pass");
