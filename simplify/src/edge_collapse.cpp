@@ -197,8 +197,8 @@ Vec3 Simplifier::ref_of(uint32_t a, uint32_t b) const {
 
 // The data's error reads the input's field off each input triangle's plane, and where the planes
 // bend it can pull the sideways step `d` off the surface to fit the data a little better: smooth
-// curved surfaces then come out uneven (the earth sphere at 10%, alpha = 0: Hausdorff distance
-// 0.019 without this bound, 0.0040 with it). So off the surface, along the ends' reference
+// curved surfaces then come out uneven, a sphere's points scattered in and out of its radius. So
+// off the surface, along the ends' reference
 // normals, the step goes no farther than the surface can bulge between them (bulge), and across
 // it to where the error is then least. Without data (alpha = 1) the geometry alone decides.
 Vec3 Simplifier::near_surface(const SegmentSlope& slope, double t, uint32_t a, uint32_t b,

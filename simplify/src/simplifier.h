@@ -29,9 +29,8 @@ private:
     // The error quadrics' geometric error weighs at least this much, so that at alpha = 0
     // the quadrics still say where the surface is. A reader sees the data where the reduced
     // surface passes; with the data's error alone, collapses cut creases and move points off
-    // the surface for nothing, and the data goes with them (fandisk at 10%: data RMS 0.0058,
-    // 0.0029 with this weight). Measured on the report's 15 smaller surfaces at alpha = 0, 10%:
-    // 0.1 left fandisk at 0.0033, 0.2 to 0.5 gave the same goals (docs/algorithm.md).
+    // the surface for nothing, and the data goes with them. 0.2 is the least weight that keeps
+    // the data error at alpha = 0 within the peers' (docs/algorithm.md).
     static constexpr double kMinGeometryWeight = 0.2;
 
     // What a collapse of the edge `halfedge` (from `keep` to `gone`, both replaced by a new

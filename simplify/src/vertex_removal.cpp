@@ -276,10 +276,9 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
     if (plan.boundary) return error;
     const Vec3 d = sub(x, mesh_.point(plan.vertex));
     // At three times a collapse's price: a collapse pays for both ends and puts its new vertex
-    // where the error is least, a removal can only drop the vertex. (Measured on the report's
-    // surfaces, α = 1, 5% and 10%: factor 3 kept their Hausdorff distance lowest, 1 and 2 let
-    // more corners and tips go early.) One within rounding (a flat star's) is none: it would
-    // break the ties of 0.
+    // where the error is least, a removal can only drop the vertex; a lower price lets corners
+    // and tips go early (docs/algorithm.md). One within rounding (a flat star's) is none: it
+    // would break the ties of 0.
     const double retraction = 3 * retraction_scale() * dot(d, d);
     return retraction > quadrics_.noise(plan.vertex) ? error + retraction : error;
 }
