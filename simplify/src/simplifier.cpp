@@ -280,21 +280,21 @@ template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) c
                : star(id);
 }
 
-Simplifier::Reserve Simplifier::reserve(uint32_t id, uint32_t taken_stamp) {
+Simplifier::Reserve Simplifier::reserve(uint32_t id, uint32_t taken_stamp, uint32_t round_stamp) {
     uint32_t near[kMaxNeighbourhood];
     size_t n = 0;
     Reserve found = Reserve::Selected;
     walk_neighbourhood(id, [&](uint32_t v) {
         if (busy_[v] == taken_stamp || n == kMaxNeighbourhood)
             found = Reserve::Out;
-        else if (busy_[v] == round_stamp_)
+        else if (busy_[v] == round_stamp)
             found = Reserve::Blocked;
         else
             near[n++] = v;
         return found == Reserve::Selected;
     });
     if (found == Reserve::Selected)
-        for (size_t i = 0; i < n; ++i) busy_[near[i]] = round_stamp_;
+        for (size_t i = 0; i < n; ++i) busy_[near[i]] = round_stamp;
     return found;
 }
 
@@ -347,12 +347,12 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         pending_.push_back(i);
     const uint32_t taken_stamp = ++stamp_;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
-        round_stamp_ = ++stamp_;
+        const uint32_t round_stamp = ++stamp_;
         selected_.clear();
         size_t next = 0;
         for (size_t j = 0; j < pending_.size(); ++j) {
             const uint32_t i = pending_[j];
-            switch (reserve(pool_[order_[i].id].id, taken_stamp)) {
+            switch (reserve(pool_[order_[i].id].id, taken_stamp, round_stamp)) {
             case Reserve::Selected:
                 selected_.push_back(i);
                 break;

@@ -113,7 +113,7 @@ private:
     // Blocked: a candidate selected earlier in this round holds part of it. Out: it touches an
     // operation taken this pass (busy_ == taken_stamp) or is larger than kMaxNeighbourhood.
     enum class Reserve : uint8_t { Selected, Blocked, Out };
-    Reserve reserve(uint32_t id, uint32_t taken_stamp);
+    Reserve reserve(uint32_t id, uint32_t taken_stamp, uint32_t round_stamp);
     void stamp_neighbourhood(uint32_t id, uint32_t stamp);
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
@@ -229,7 +229,7 @@ private:
     // operations' neighbourhoods and each selection round one for what it selected (stamp_
     // counts them), so nothing needs clearing between rounds or passes.
     std::vector<uint32_t> busy_;
-    uint32_t stamp_ = 0, round_stamp_ = 0;
+    uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
     // ascending), what each one's check found and what its operation needs when applied.
     std::vector<uint32_t> pending_, selected_;
