@@ -98,11 +98,13 @@ export async function startBrowser() {
   });
   return {
     context,
-    async newPage(url) {
+    // initScript, if given, runs in the page before its own scripts.
+    async newPage(url, { initScript } = {}) {
       const page = await context.newPage();
       const errors = [];
       page.on('pageerror', (e) => errors.push(e.message));
       page.errors = errors;
+      if (initScript) await page.addInitScript(initScript);
       await page.goto(url);
       return page;
     },
