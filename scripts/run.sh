@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build, and start ddsimp-server on localhost with the
-# shipped sample surface (a cutting plane through a CVD reactor with temperature, pressure,
-# velocity and species) already loaded, and the browser renderer at http://localhost:7421/
+# shipped sample surface (a 217,709-triangle isosurface of a carotid artery carrying the blood
+# velocity, data/README.md) already loaded, and the browser renderer at http://localhost:7421/
 # (built from web/ with npm when its sources changed). In another terminal:
 #   build/release/tools/ddsimp remote list
 #   build/release/tools/ddsimp remote simplify --surface ID --alpha 0.3 --keep 0.5,0.1 -o out/

@@ -65,8 +65,13 @@ inline std::filesystem::path temp_dir(const std::string& name) {
     return dir;
 }
 
+// Given as `--sample` to ServerProcess: the server starts with its own built-in sample (the
+// carotid isosurface) instead of the small plane the tests use.
+inline const std::string kBuiltInSample = "(built-in)";
+
 // A ddsimp-server child process. `before_exec` runs in the child just before the server starts
-// (e.g. to drop a privilege or set a resource limit).
+// (e.g. to drop a privilege or set a resource limit). Unless `extra` says otherwise with --sample,
+// the server's sample is the 756-triangle plane data/SurfaceVectors.ddsurf, small and quick.
 class ServerProcess {
 public:
     ServerProcess(std::filesystem::path data_dir, std::vector<std::string> extra = {},
@@ -94,7 +99,14 @@ public:
             DDSIMP_SERVER_BINARY,      "--port",     std::to_string(port), "--http-port",
             std::to_string(http_port), "--data-dir", data_dir_.string()};
         if (flag("--log-level") == "127.0.0.1") args.insert(args.end(), {"--log-level", "warn"});
-        args.insert(args.end(), extra_.begin(), extra_.end());
+        if (flag("--sample") == "127.0.0.1")
+            args.insert(args.end(), {"--sample", DDSIMP_SAMPLE_DATA "/SurfaceVectors.ddsurf"});
+        for (size_t i = 0; i < extra_.size(); ++i) {
+            if (extra_[i] == "--sample" && i + 1 < extra_.size() && extra_[i + 1] == kBuiltInSample)
+                ++i; // neither the flag nor its value: the server's default
+            else
+                args.push_back(extra_[i]);
+        }
         pid_ = ::fork();
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGKILL); // never outlive a test that crashed

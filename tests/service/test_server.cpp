@@ -49,7 +49,7 @@ protected:
     std::unique_ptr<ServerProcess> server_;
 };
 
-TEST_F(Server, WelcomesAndListsTheBuiltInSample) {
+TEST_F(Server, WelcomesAndListsItsSample) {
     RawClient c(server_->port);
     const v1::Welcome w = c.hello({"meshopt-codec", "unknown-capability"});
     EXPECT_EQ(w.protocol_version(), 1u);
@@ -61,6 +61,32 @@ TEST_F(Server, WelcomesAndListsTheBuiltInSample) {
     ASSERT_EQ(list.surfaces_size(), 1);
     EXPECT_EQ(list.surfaces(0).triangles(), 756u); // data/SurfaceVectors.vtk
     EXPECT_EQ(list.surfaces(0).fields_size(), 7);
+}
+
+// Without --sample the server starts with the sample it ships (data/Carotid.ddsurf.tar.xz,
+// unpacked by the build): a real 3-D surface of at least 200 k triangles with its vector field,
+// listed at start and served.
+TEST(BuiltInSample, IsARealSurfaceWithDataListedAtStart) {
+    ServerProcess server(temp_dir("built-in-sample"), {"--sample", kBuiltInSample});
+    RawClient c(server.port);
+    c.hello();
+    c.send(v1::ListSurfaces{});
+    const v1::SurfaceList list = c.expect<v1::SurfaceList>();
+    ASSERT_EQ(list.surfaces_size(), 1);
+    const v1::SurfaceInfo& sample = list.surfaces(0);
+    EXPECT_NE(sample.name().find("Carotid"), std::string::npos) << sample.name();
+    EXPECT_GE(sample.triangles(), 200000u);
+    ASSERT_EQ(sample.fields_size(), 1);
+    EXPECT_EQ(sample.fields(0).name(), "vectors"); // the blood velocity
+    EXPECT_EQ(sample.fields(0).components(), 3u);
+    EXPECT_LT(sample.fields(0).min(), sample.fields(0).max());
+
+    // A coarse level of it is served, with its field.
+    c.send(request_for(sample.surface(), {0.01f}, 1));
+    const RawClient::Level level = c.level();
+    EXPECT_LE(level.begin.total_triangles(), sample.triangles() / 100);
+    EXPECT_GT(level.begin.total_triangles(), sample.triangles() / 200);
+    EXPECT_EQ(level.begin.fields_size(), 1);
 }
 
 TEST_F(Server, UploadIsContentAddressedAndStoredOnce) {

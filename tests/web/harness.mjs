@@ -53,14 +53,20 @@ async function accepts(port) {
 
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
-// A ddsimp-server child with the built-in sample and the built page. `httpPort` may be given to
+// The 756-triangle plane the tests start the server with (data/README.md): small and quick.
+export const planeSample = () => path.join(required('DDSIMP_WEB_SRC'), '../data/SurfaceVectors.ddsurf');
+
+// A ddsimp-server child with a sample and the built page. `sample`: a surface file, the plane by
+// default, null for the server's own built-in sample (the carotid). `httpPort` may be given to
 // start a server again where an earlier one listened.
-export async function startServer({ extraArgs = [], httpPort, webDir } = {}) {
+export async function startServer({ extraArgs = [], httpPort, webDir, sample } = {}) {
   const dataDir = mkdtempSync(path.join(os.tmpdir(), 'ddsimp-web-test-'));
   const port = await freePort();
   httpPort ??= await freePort();
+  if (sample === undefined) sample = planeSample();
   const args = ['--port', String(port), '--http-port', String(httpPort), '--data-dir', dataDir,
-    '--web-dir', webDir ?? required('DDSIMP_WEB_DIST'), '--log-level', 'warn', ...extraArgs];
+    '--web-dir', webDir ?? required('DDSIMP_WEB_DIST'), '--log-level', 'warn',
+    ...(sample === null ? [] : ['--sample', sample]), ...extraArgs];
   const child = spawn(required('DDSIMP_SERVER'), args, { stdio: ['ignore', 'inherit', 'inherit'] });
   let exited = null;
   child.once('exit', (code, signal) => { exited = { code, signal }; });
