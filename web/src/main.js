@@ -8,6 +8,7 @@
 import './style.css';
 import { drawLegend, formatValue, viridis } from './colormap.js';
 import { ServerConnection } from './connection.js';
+import { FileOpener } from './file_open.js';
 import { decoderReady, IncomingLevel, MeshError, MeshState } from './mesh.js';
 import { enumValues } from './protocol.js';
 import { Viewer } from './viewer.js';
@@ -73,6 +74,19 @@ const connection = new ServerConnection(wsUrl, {
 });
 decoderReady.then(() => connection.connect());
 
+// A file opened in the page goes into the session (or to this page alone), and is then shown.
+const opener = new FileOpener({
+  connection, progress: setProgress, notice,
+  session: () => (sessionName && state.joined ? sessionName : ''),
+  onUploaded: (result) => {
+    notice('');
+    // In a session the server switches the session's view to it; alone, this page does.
+    if (!sessionName) state.view.surface = result.surface;
+    connection.send('ListSurfaces', {});
+  },
+});
+opener.attach($('upload'), document.body);
+
 // The options the server fills in for what a request leaves unset (the library's defaults): the
 // controls start from them, once, before this page asks for anything.
 function learnDefaults(d) {
@@ -120,8 +134,9 @@ function handle(name, m) {
     case 'MeshChunk': return onMeshChunk(m);
     case 'MeshEnd': return onMeshEnd(m);
     case 'RequestDone': return onRequestDone(m);
-    case 'Error': return onError(m);
-    default: return undefined; // UploadResult etc.: not asked for by this page
+    case 'Error': return opener.onError(m) || onError(m);
+    case 'UploadResult': return opener.onUploadResult(m);
+    default: return undefined; // not asked for by this page
   }
 }
 
@@ -131,7 +146,8 @@ function onSurfaceList(m) {
     new Option(`${s.name || s.surface.slice(0, 12)} (${s.triangles.toLocaleString('en')} triangles)`,
       s.surface)));
   if (m.surfaces.length === 0) {
-    notice('The server has no surfaces yet: upload one with `ddsimp remote upload FILE`.');
+    notice('The server has no surfaces yet: open a file here, or upload one with ' +
+      '`ddsimp remote upload FILE`.');
     return;
   }
   if (!surfaceInfo(state.view.surface)) state.view.surface = m.surfaces[0].surface;
