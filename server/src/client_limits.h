@@ -23,7 +23,4 @@ inline constexpr size_t kMaxVerticesPerTriangle = 3; // vertices <= 3 x triangle
 // A request: levels asked for and gradient fields named.
 inline constexpr size_t kMaxLevelsPerRequest = 64;
 
-// Result keys remembered for resuming after a reconnect (the oldest are forgotten first).
-inline constexpr size_t kMaxRememberedResults = 65536;
-
 } // namespace ddsimp::server

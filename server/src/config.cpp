@@ -83,6 +83,8 @@ Config parse_config(int argc, char** argv) {
         "per client: bytes waiting to be sent before it is dropped");
     opt("--max-upload-mb", c.max_upload_mb,
         "all clients together: MiB of uploads received but not yet stored");
+    opt("--max-remembered-kb", c.max_remembered_kb,
+        "KiB of result keys remembered after their requests (for resuming by key)");
     Timeouts& t = c.timeouts;
     const auto seconds = [&](const std::string& name, double& value, const std::string& help) {
         opt(name, value, help)->check(CLI::Range(0.001, 1e6));

@@ -54,6 +54,7 @@ struct Config {
     size_t max_sessions = 64;
     size_t max_queue_mb = 256;   // per client: bytes waiting to be sent
     size_t max_upload_mb = 1024; // all clients together: uploads received but not yet stored
+    size_t max_remembered_kb = 16384; // result keys remembered after their requests, for resuming
     Timeouts timeouts;
     std::string log_level = "info";
     std::string log_format = "text"; // or "json": one JSON object per line

@@ -9,6 +9,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 namespace ddsimp::server {
 namespace {
 
@@ -320,12 +322,19 @@ void Connection::on_request(const v1::Request& request) {
         return send_error(v1::Error::INVALID_ARGUMENT,
                           "request " + std::to_string(request.request_id()) + " is already running",
                           request.request_id());
-    if (active_requests_.size() >= kMaxRequestsPerConnection)
+    // Jobs that have not stopped yet count, those of cancelled requests too.
+    const size_t held = std::max(active_requests_.size(), request_jobs_);
+    if (held >= kMaxRequestsPerConnection) {
+        const size_t stopping = held - active_requests_.size();
         return send_error(v1::Error::RESOURCE_EXHAUSTED,
                           "request " + std::to_string(request.request_id()) + ": at most " +
                               std::to_string(kMaxRequestsPerConnection) +
-                              " requests at once per connection",
+                              " requests at once per connection" +
+                              (stopping > 0 ? " (" + std::to_string(stopping) +
+                                                  " cancelled ones are still stopping)"
+                                            : ""),
                           request.request_id());
+    }
     service_.request(shared_from_this(), request);
 }
 

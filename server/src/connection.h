@@ -45,6 +45,10 @@ public:
     void begin_request(uint64_t request_id) { active_requests_.insert(request_id); }
     bool request_active(uint64_t request_id) const { return active_requests_.count(request_id); }
     void end_request(uint64_t request_id) { active_requests_.erase(request_id); }
+    // A request's job, from its queueing until it stops: a cancelled request's job still counts
+    // against the client's request limit until it has actually stopped.
+    void begin_job() { ++request_jobs_; }
+    void end_job() { --request_jobs_; }
     // An upload being checked and stored: its client waits for the UploadResult.
     void begin_storing() { ++storing_uploads_; }
     void end_storing() { --storing_uploads_; }
@@ -90,6 +94,7 @@ private:
     int64_t accounted_queue_bytes_ = 0;
     std::map<uint64_t, Upload> uploads_;
     std::set<uint64_t> active_requests_;
+    size_t request_jobs_ = 0;
     size_t storing_uploads_ = 0;
     std::map<std::string, std::string> sessions_;
     boost::asio::steady_timer idle_timer_;

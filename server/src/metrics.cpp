@@ -48,6 +48,17 @@ std::string Metrics::render(const Snapshot& s) const {
            reductions_cancelled.load());
     metric("previews_sent_total", "counter", "Previews sent before an exact level.",
            previews_sent.load());
+    metric("request_jobs", "gauge",
+           "Request jobs queued or running, cancelled ones included until they stop.",
+           request_jobs.load());
+    metric("request_job_bytes", "gauge", "Bytes the request jobs hold.", request_job_bytes.load());
+    metric("session_views_skipped_total", "counter",
+           "Session views not computed because a newer view came first.",
+           session_views_skipped.load());
+    metric("remembered_results", "gauge", "Result keys remembered for resuming.",
+           remembered_results.load());
+    metric("remembered_bytes", "gauge", "Bytes of the remembered result keys.",
+           remembered_bytes.load());
     metric("computations_total", "counter", "Records and levels computed (cache misses that ran).",
            s.computations);
     metric("cache_hits_total", "counter", "Result cache hits.", s.cache_hits);

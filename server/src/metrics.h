@@ -33,6 +33,12 @@ struct Metrics {
     std::atomic<int64_t> reductions_running{0};    // records being computed now
     std::atomic<uint64_t> reductions_cancelled{0}; // computations stopped: nobody waited any more
     std::atomic<uint64_t> previews_sent{0};
+    // Request jobs from queueing until they stop (cancelled ones too), and what they hold.
+    std::atomic<int64_t> request_jobs{0};
+    std::atomic<int64_t> request_job_bytes{0};
+    std::atomic<uint64_t> session_views_skipped{0}; // a newer view came before the job ran
+    std::atomic<int64_t> remembered_results{0};     // result keys kept for resuming
+    std::atomic<int64_t> remembered_bytes{0};
 
     // Job latency: time from a request's arrival to its levels being ready to send.
     void observe_job_seconds(double seconds);

@@ -57,7 +57,8 @@ Service::Service(asio::io_context& io, const Config& config)
       reductions_(store_, cache_, metrics_, engine_threads(config.threads)),
       sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
-                 kMaxRequestsPerConnection + kMaxUploadsPerConnection + kMaxSessionsPerConnection) {
+                 kMaxRequestsPerConnection + kMaxUploadsPerConnection + kMaxSessionsPerConnection),
+      known_results_(config.max_remembered_kb << 10) {
     if (config.threads > 0) preview_pool_.emplace(1);
     load_sample();
 }
@@ -288,6 +289,7 @@ void Service::leave(Connection& c, const std::string& name) {
     bool leader_changed = false;
     Session* s = sessions_.leave(scope, c.id(), &leader_changed);
     if (!s) { // the last member left: nobody waits for the session's mesh any more
+        session_versions_.erase(scope);
         if (auto k = session_keys_.find(scope); k != session_keys_.end()) {
             computations_.leave(k->second, Computations::session_waiter(scope));
             session_keys_.erase(k);

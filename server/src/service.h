@@ -11,6 +11,7 @@
 #include "glb_download.h"
 #include "metrics.h"
 #include "reductions.h"
+#include "remembered_results.h"
 #include "scheduler.h"
 #include "sessions.h"
 #include "surface_store.h"
@@ -19,7 +20,7 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/thread_pool.hpp>
 
-#include <deque>
+#include <atomic>
 #include <functional>
 #include <map>
 #include <memory>
@@ -84,6 +85,7 @@ private:
     struct RunningRequest {
         std::string key;
         std::string surface;
+        CancelFlag ended; // set when the request ends before its job (the job then stops)
     };
     struct RequestJob;
     struct PreparedLevel;
@@ -116,10 +118,10 @@ private:
     std::map<std::pair<uint64_t, uint64_t>, RunningRequest> running_; // (client, request id)
     std::map<std::string, std::string> session_keys_; // session scope -> the key it waits for
     std::map<uint64_t, std::weak_ptr<Connection>> connections_;
-    // Result key -> what it computes, for resuming by key; the oldest are forgotten first.
     void remember_result(const std::string& key, const ReductionParams& params);
-    std::map<std::string, ReductionParams> known_results_;
-    std::deque<std::string> known_order_;
+    RememberedResults known_results_;
+    // Per session scope, the newest view's version: a job for an older view is skipped.
+    std::map<std::string, std::shared_ptr<std::atomic<uint64_t>>> session_versions_;
     uint64_t next_id_ = 1;
     // All downloads take turns with the clients as this one client (connections count from 1).
     static constexpr uint64_t kDownloadsClient = ~uint64_t(0);

@@ -32,19 +32,32 @@ struct Service::PreparedLevel {
     std::shared_ptr<const std::string> blob;
 };
 
-// A request between the network thread and the pool.
+// A request between the network thread and the pool: only what its levels need, never the
+// request message (whose unknown fields a client may pad).
 struct Service::RequestJob {
     std::shared_ptr<Connection> connection;
-    v1::Request request;
+    uint64_t request_id = 0;
+    std::vector<float> keep; // per level, as asked
     ReductionParams params;
     std::string key;
     v1::Encoding encoding = v1::RAW;
     bool progressive = false;
     std::vector<size_t> targets;      // per level of the keep list: its triangle count
     std::vector<size_t> finest_first; // level indices, finest (most triangles) first
-    CancelFlag cancelled;
+    CancelFlag cancelled;             // the computation's: nobody waits for it any more
+    CancelFlag ended;                 // this request's: cancelled, superseded or disconnected
     Clock::time_point start;
     bool exact_sent = false; // network thread: a level went out, so a late preview is dropped
+    size_t accounted_bytes = 0;
+
+    // What the job holds, for the accounting in /metrics.
+    size_t bytes() const {
+        size_t b = sizeof(*this) + key.capacity() + params.surface.capacity() +
+                   keep.capacity() * sizeof(float) +
+                   (targets.capacity() + finest_first.capacity()) * sizeof(size_t);
+        for (const std::string& f : params.options.gradient_fields) b += sizeof(f) + f.capacity();
+        return b;
+    }
 };
 
 void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
@@ -74,15 +87,17 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
 
     auto job = std::make_shared<RequestJob>();
     job->connection = c;
-    job->request = r;
+    job->request_id = rid;
+    job->keep.assign(r.keep().begin(), r.keep().end());
+    job->ended = std::make_shared<std::atomic<bool>>(false);
     ReductionParams& params = job->params;
     std::optional<StoredSurface> stored;
     if (!r.result().empty()) {
         // The same answer whether the result is unknown or of a surface this client may not see.
-        auto it = known_results_.find(r.result());
-        if (it != known_results_.end()) stored = store_.find(it->second.surface, c->scopes());
+        const ReductionParams* known = known_results_.find(r.result());
+        if (known) stored = store_.find(known->surface, c->scopes());
         if (!stored) return refuse(v1::Error::NOT_FOUND, "no result " + r.result());
-        params = it->second;
+        params = *known;
         job->key = r.result();
     } else {
         stored = store_.find(r.surface(), c->scopes());
@@ -94,7 +109,6 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
             return refuse(v1::Error::INVALID_ARGUMENT, e.what());
         }
         job->key = protocol::result_key(params.surface, params.options);
-        remember_result(job->key, params);
     }
     if (r.supersede()) supersede(*c, rid, params.surface);
 
@@ -123,17 +137,22 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
                           ")");
     }
     c->begin_request(rid);
-    running_[{c->id(), rid}] = {job->key, params.surface};
+    c->begin_job();
+    job->accounted_bytes = job->bytes();
+    ++metrics_.request_jobs;
+    metrics_.request_job_bytes += int64_t(job->accounted_bytes);
+    running_[{c->id(), rid}] = {job->key, params.surface, job->ended};
     if (!ready && c->has_capability("previews")) send_preview(job);
 }
 
 void Service::run_request(const std::shared_ptr<RequestJob>& job) {
-    const v1::Request& r = job->request;
+    const uint64_t rid = job->request_id;
     v1::Error error;
-    error.set_request_id(r.request_id());
+    error.set_request_id(rid);
     std::vector<PreparedLevel> levels;
     std::vector<size_t> todo = job->finest_first;
     try {
+        if (job->ended->load()) throw Cancelled(); // cancelled while it waited for a worker
         if (job->cancelled->load()) {
             ++metrics_.reductions_cancelled;
             throw Cancelled();
@@ -148,6 +167,7 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
                                     *job->cancelled, &computed);
             deliver(job, prepare_levels(*job, *first, {todo.front()}, computed), {}, false);
             todo.erase(todo.begin());
+            if (job->ended->load()) throw Cancelled();
         }
         if (!rec)
             rec = record_for(reductions_, job->params, job->key, coarsest, *job->cancelled,
@@ -156,16 +176,16 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
         levels = prepare_levels(*job, *rec, todo, computed);
     } catch (const Cancelled&) {
         error.set_code(v1::Error::CANCELLED);
-        error.set_message("request " + std::to_string(r.request_id()) + " cancelled");
+        error.set_message("request " + std::to_string(rid) + " cancelled");
     } catch (const std::invalid_argument& e) {
         error.set_code(v1::Error::NOT_FOUND);
-        error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
+        error.set_message("request " + std::to_string(rid) + ": " + e.what());
     } catch (const InputError& e) {
         error.set_code(v1::Error::INVALID_ARGUMENT);
-        error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
+        error.set_message("request " + std::to_string(rid) + ": " + e.what());
     } catch (const std::exception& e) {
         error.set_code(v1::Error::INTERNAL);
-        error.set_message("request " + std::to_string(r.request_id()) + ": " + e.what());
+        error.set_message("request " + std::to_string(rid) + ": " + e.what());
     }
     metrics_.observe_job_seconds(std::chrono::duration<double>(Clock::now() - job->start).count());
     deliver(job, std::move(levels), std::move(error), true);
@@ -175,12 +195,11 @@ std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& jo
                                                             const ComputedRecord& rec,
                                                             const std::vector<size_t>& indices,
                                                             bool computed) {
-    const v1::Request& r = job.request;
     const auto begin_of = [&](size_t i) {
         v1::MeshBegin b;
-        b.set_request_id(r.request_id());
+        b.set_request_id(job.request_id);
         b.set_level(uint32_t(i));
-        b.set_keep(r.keep(int(i)));
+        b.set_keep(job.keep[i]);
         b.set_seconds(computed ? rec.seconds : 0);
         b.set_cached(!computed);
         b.set_result(job.key);
@@ -190,7 +209,7 @@ std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& jo
     std::vector<PreparedLevel> levels;
     if (!job.progressive) {
         for (size_t i : indices) {
-            auto level = reductions_.level(rec, job.key, r.keep(int(i)), job.encoding);
+            auto level = reductions_.level(rec, job.key, job.keep[i], job.encoding);
             PreparedLevel p{begin_of(i), {level, &level->blob.bytes}};
             p.begin.set_kind(v1::MeshBegin::FULL);
             protocol::set_layout(p.begin, level->blob.layout);
@@ -227,12 +246,18 @@ void Service::deliver(const std::shared_ptr<RequestJob>& job, std::vector<Prepar
     asio::post(io_,
                [this, job, levels = std::move(levels), error = std::move(error), last]() mutable {
                    const std::shared_ptr<Connection>& c = job->connection;
-                   const uint64_t rid = job->request.request_id();
+                   const uint64_t rid = job->request_id;
                    if (last) {
                        auto it = running_.find({c->id(), rid});
-                       if (it != running_.end() && it->second.key == job->key)
+                       if (it != running_.end() && it->second.ended == job->ended)
                            forget_request(c->id(), rid);
+                       c->end_job(); // stopped: its place is free
+                       --metrics_.request_jobs;
+                       metrics_.request_job_bytes -= int64_t(job->accounted_bytes);
                    }
+                   // A key is remembered once a level has named it: a request that fails
+                   // (an unknown field, a cancel) leaves nothing behind.
+                   if (!levels.empty()) remember_result(job->key, job->params);
                    if (!c->open() || !c->request_active(rid)) return; // gone or cancelled
                    if (last) c->end_request(rid);
                    if (error.code() != v1::Error::CODE_UNSPECIFIED) {
@@ -264,14 +289,13 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
     const size_t target = job->targets[level];
     std::shared_ptr<const ComputedRecord> nearest;
     double distance = 2;
-    for (const auto& [key, params] : known_results_) {
-        if (params.surface != job->params.surface || key == job->key ||
-            params.options.strategy != job->params.options.strategy)
-            continue;
+    known_results_.for_surface(job->params.surface, [&](const std::string& key,
+                                                        const ReductionParams& params) {
+        if (key == job->key || params.options.strategy != job->params.options.strategy) return;
         const double d = std::abs(params.options.alpha - job->params.options.alpha);
-        if (d >= distance) continue;
+        if (d >= distance) return;
         if (auto rec = reductions_.cached_record(key, target)) nearest = rec, distance = d;
-    }
+    });
     asio::post(preview_executor(), [this, job, level, target, nearest] {
         v1::MeshBegin begin;
         std::shared_ptr<protocol::EncodedBlob> blob;
@@ -286,9 +310,9 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
             }
             blob = std::make_shared<protocol::EncodedBlob>(
                 protocol::encode_mesh(preview, job->encoding));
-            begin.set_request_id(job->request.request_id());
+            begin.set_request_id(job->request_id);
             begin.set_level(uint32_t(level));
-            begin.set_keep(job->request.keep(int(level)));
+            begin.set_keep(job->keep[level]);
             begin.set_kind(v1::MeshBegin::FULL);
             protocol::set_layout(begin, blob->layout);
             begin.set_total_triangles(preview.triangle_count());
@@ -296,12 +320,12 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
             begin.set_surface(job->params.surface);
             begin.set_preview(true);
         } catch (const std::exception& e) {
-            spdlog::warn("no preview for request {}: {}", job->request.request_id(), e.what());
+            spdlog::warn("no preview for request {}: {}", job->request_id, e.what());
             return;
         }
         asio::post(io_, [this, job, begin = std::move(begin), blob = std::move(blob)] {
             const std::shared_ptr<Connection>& c = job->connection;
-            const uint64_t rid = job->request.request_id();
+            const uint64_t rid = job->request_id;
             if (!c->open() || !c->request_active(rid) || job->exact_sent) return;
             BulkItem item;
             item.request_id = rid;
@@ -319,6 +343,7 @@ void Service::forget_request(uint64_t client, uint64_t request_id) {
     auto it = running_.find({client, request_id});
     if (it == running_.end()) return;
     computations_.leave(it->second.key, Computations::request_waiter(client, request_id));
+    it->second.ended->store(true);
     running_.erase(it);
 }
 
@@ -352,12 +377,9 @@ void Service::supersede(Connection& c, uint64_t request_id, const std::string& s
 }
 
 void Service::remember_result(const std::string& key, const ReductionParams& params) {
-    if (!known_results_.emplace(key, params).second) return;
-    known_order_.push_back(key);
-    while (known_order_.size() > kMaxRememberedResults) {
-        known_results_.erase(known_order_.front());
-        known_order_.pop_front();
-    }
+    known_results_.remember(key, params);
+    metrics_.remembered_results = int64_t(known_results_.size());
+    metrics_.remembered_bytes = int64_t(known_results_.bytes());
 }
 
 // ----- sessions -----
@@ -367,7 +389,6 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
     params.surface = s.view.surface();
     params.options = protocol::options_from(s.view);
     const std::string key = protocol::result_key(params.surface, params.options);
-    remember_result(key, params);
     const float keep = s.view.keep() > 0 ? s.view.keep() : 1.0f;
     const std::string name = s.name, scope = s.scope;
     // The session's mesh before this view: nobody in the session waits for it any more.
@@ -380,14 +401,22 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
         store_.find(params.surface, {s.scope, kPublicScope});
     const size_t depth = protocol::target_for_keep(keep, stored ? stored->triangles : 0);
     const uint64_t version = s.view_version;
+    std::shared_ptr<std::atomic<uint64_t>>& latest = session_versions_[scope];
+    if (!latest) latest = std::make_shared<std::atomic<uint64_t>>(version);
+    latest->store(version);
     // Encode only what the members asked for.
     bool need_raw = false, need_meshopt = false;
     for (uint64_t id : targets)
         if (auto c = find(id))
             (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
     const uint64_t client = targets.empty() ? 0 : targets.front();
-    compute(client, [this, params, key, keep, name, scope, version, need_raw, need_meshopt, depth,
-                     cancelled, targets = std::move(targets)] {
+    compute(client, [this, params, key, keep, name, scope, version, latest, need_raw,
+                     need_meshopt, depth, cancelled, targets = std::move(targets)] {
+        // A newer view came while this one waited for a worker: only the newest is computed.
+        if (latest->load() != version) {
+            ++metrics_.session_views_skipped;
+            return;
+        }
         std::shared_ptr<const EncodedLevel> raw, meshopt;
         std::string failure;
         double seconds = 0;
@@ -411,6 +440,7 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
                 computations_.leave(key, Computations::session_waiter(scope));
                 session_keys_.erase(k);
             }
+            if (failure.empty()) remember_result(key, params);
             Session* now = sessions_.find(scope);
             if (!now || now->view_version != version) return; // superseded by a newer view
             for (uint64_t id : targets) {
