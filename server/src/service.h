@@ -91,8 +91,10 @@ private:
     struct PreparedLevel;
     // On the pool: the request's record (as deep as its coarsest level), its levels.
     void run_request(const std::shared_ptr<RequestJob>& job);
-    std::vector<PreparedLevel> prepare_levels(const RequestJob& job, const ComputedRecord& rec,
-                                              const std::vector<size_t>& indices, bool computed);
+    // Makes the levels `indices` one at a time, handing each to `emit`.
+    void prepare_levels(const RequestJob& job, const ComputedRecord& rec,
+                        const std::vector<size_t>& indices, bool computed,
+                        const std::function<void(PreparedLevel)>& emit);
     // Queues `levels` on the network thread; `last`: the request is complete after them (or
     // ended by `error`).
     void deliver(const std::shared_ptr<RequestJob>& job, std::vector<PreparedLevel> levels,

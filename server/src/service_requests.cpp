@@ -32,6 +32,27 @@ struct Service::PreparedLevel {
     std::shared_ptr<const std::string> blob;
 };
 
+namespace {
+
+// The bytes of a request's levels as the client receives them: raw, 12 per triangle and, for a
+// share of the vertices as large as the level's share of the triangles, 12 plus 4 per field
+// component. meshopt's encoding is counted at a quarter (it compresses from about 2 to 5 times),
+// so that a request that may fit is never refused.
+uint64_t estimated_bytes(const StoredSurface& s, const std::vector<size_t>& targets,
+                         v1::Encoding encoding) {
+    uint64_t components = 0;
+    for (const StoredSurface::FieldRange& f : s.fields) components += uint64_t(f.components);
+    uint64_t bytes = 0;
+    for (size_t t : targets) {
+        const uint64_t triangles = std::min<uint64_t>(t, s.triangles);
+        const uint64_t vertices = s.triangles ? s.vertices * triangles / s.triangles : 0;
+        bytes += 12 * triangles + vertices * (12 + 4 * components);
+    }
+    return encoding == v1::MESHOPT ? bytes / 4 : bytes;
+}
+
+} // namespace
+
 // A request between the network thread and the pool: only what its levels need, never the
 // request message (whose unknown fields a client may pad).
 struct Service::RequestJob {
@@ -122,6 +143,17 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     std::stable_sort(job->finest_first.begin(), job->finest_first.end(),
                      [&](size_t a, size_t b) { return r.keep(int(a)) > r.keep(int(b)); });
     job->start = Clock::now();
+    // The levels are queued whole for the client, within --max-queue-mb: a request whose levels
+    // cannot fit is refused before anything is computed.
+    const uint64_t bytes = estimated_bytes(*stored, job->targets, job->encoding);
+    const uint64_t queue_bound = uint64_t(config_.max_queue_mb) << 20;
+    if (bytes > queue_bound)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED,
+                      "its " + std::to_string(job->targets.size()) + " levels take about " +
+                          std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB, more than the " +
+                          std::to_string(config_.max_queue_mb) +
+                          " MiB a client may have waiting to be sent (--max-queue-mb); ask for "
+                          "fewer or coarser levels");
 
     const std::string waiter = Computations::request_waiter(c->id(), rid);
     job->cancelled = computations_.wait(job->key, waiter);
@@ -151,6 +183,19 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
     error.set_request_id(rid);
     std::vector<PreparedLevel> levels;
     std::vector<size_t> todo = job->finest_first;
+    // Levels are made and queued one at a time; the newest is held back to go out with the
+    // request's end.
+    std::optional<PreparedLevel> held;
+    const auto vector_of = [](PreparedLevel p) {
+        std::vector<PreparedLevel> out;
+        out.push_back(std::move(p));
+        return out;
+    };
+    const auto emit = [&](PreparedLevel p) {
+        if (held) deliver(job, vector_of(std::move(*held)), {}, false);
+        held = std::move(p);
+        if (job->ended->load()) throw Cancelled();
+    };
     try {
         if (job->ended->load()) throw Cancelled(); // cancelled while it waited for a worker
         if (job->cancelled->load()) {
@@ -165,7 +210,9 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
             // (a progressive request keeps its order: a whole coarsest level, then refinements).
             auto first = record_for(reductions_, job->params, job->key, job->targets[todo.front()],
                                     *job->cancelled, &computed);
-            deliver(job, prepare_levels(*job, *first, {todo.front()}, computed), {}, false);
+            prepare_levels(*job, *first, {todo.front()}, computed, emit);
+            deliver(job, vector_of(std::move(*held)), {}, false);
+            held.reset();
             todo.erase(todo.begin());
             if (job->ended->load()) throw Cancelled();
         }
@@ -173,7 +220,8 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
             rec = record_for(reductions_, job->params, job->key, coarsest, *job->cancelled,
                              &computed);
         std::reverse(todo.begin(), todo.end()); // the rest coarsest first: all are ready
-        levels = prepare_levels(*job, *rec, todo, computed);
+        prepare_levels(*job, *rec, todo, computed, emit);
+        if (held) levels = vector_of(std::move(*held));
     } catch (const Cancelled&) {
         error.set_code(v1::Error::CANCELLED);
         error.set_message("request " + std::to_string(rid) + " cancelled");
@@ -191,10 +239,9 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
     deliver(job, std::move(levels), std::move(error), true);
 }
 
-std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& job,
-                                                            const ComputedRecord& rec,
-                                                            const std::vector<size_t>& indices,
-                                                            bool computed) {
+void Service::prepare_levels(const RequestJob& job, const ComputedRecord& rec,
+                             const std::vector<size_t>& indices, bool computed,
+                             const std::function<void(PreparedLevel)>& emit) {
     const auto begin_of = [&](size_t i) {
         v1::MeshBegin b;
         b.set_request_id(job.request_id);
@@ -206,7 +253,6 @@ std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& jo
         b.set_surface(job.params.surface);
         return b;
     };
-    std::vector<PreparedLevel> levels;
     if (!job.progressive) {
         for (size_t i : indices) {
             auto level = reductions_.level(rec, job.key, job.keep[i], job.encoding);
@@ -216,9 +262,9 @@ std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& jo
             p.begin.set_total_triangles(level->triangles);
             p.begin.set_target_reached(level->target_reached);
             set_level_error(*p.begin.mutable_error(), rec.record, level->operations);
-            levels.push_back(std::move(p));
+            emit(std::move(p));
         }
-        return levels;
+        return;
     }
     protocol::RefinementStream stream(rec.record.vertices());
     bool first = true;
@@ -235,10 +281,9 @@ std::vector<Service::PreparedLevel> Service::prepare_levels(const RequestJob& jo
         p.begin.set_total_triangles(triangles.size() / 3);
         p.begin.set_target_reached(triangles.size() / 3 <= target);
         set_level_error(*p.begin.mutable_error(), rec.record, ops);
-        levels.push_back(std::move(p));
         first = false;
+        emit(std::move(p));
     }
-    return levels;
 }
 
 void Service::deliver(const std::shared_ptr<RequestJob>& job, std::vector<PreparedLevel> levels,

@@ -219,5 +219,38 @@ TEST_F(HostileRequests, RememberedResultKeysStayWithinTheirBound) {
     EXPECT_EQ(forgotten.request_id(), 2001u);
 }
 
+// A request for 64 levels of a surface whose levels together cannot fit in the client's send
+// queue is refused up front, with what it would take, before anything is computed; one that
+// fits is answered level by level within the queue bound.
+TEST_F(HostileRequests, ARequestWhoseLevelsCannotFitIsRefusedUpFront) {
+    constexpr size_t kQueueMiB = 8;
+    start({"--max-queue-mb", std::to_string(kQueueMiB)});
+    const double computations = metric("ddsimp_computations_total");
+    std::vector<float> keeps;
+    for (int i = 1; i <= 64; ++i) keeps.push_back(0.01f * float(i));
+    attacker_->send(level_request(large_, keeps, 1));
+    const v1::Error refused = next_error(*attacker_);
+    EXPECT_EQ(refused.code(), v1::Error::RESOURCE_EXHAUSTED);
+    EXPECT_EQ(refused.request_id(), 1u);
+    EXPECT_NE(refused.message().find("its 64 levels take about"), std::string::npos)
+        << refused.message();
+    EXPECT_NE(refused.message().find("--max-queue-mb"), std::string::npos) << refused.message();
+    EXPECT_EQ(metric("ddsimp_computations_total"), computations);
+    EXPECT_EQ(metric("ddsimp_request_jobs"), 0);
+
+    // 64 levels of the small surface fit: every one arrives, the queue stays within its bound.
+    attacker_->send(level_request(small_, keeps, 2));
+    std::set<uint32_t> levels;
+    for (int i = 0; i < 64; ++i) {
+        const RawClient::Level l = attacker_->level();
+        EXPECT_EQ(l.begin.request_id(), 2u);
+        levels.insert(l.begin.level());
+    }
+    EXPECT_EQ(levels.size(), 64u);
+    EXPECT_EQ(attacker_->expect<v1::RequestDone>().request_id(), 2u);
+    EXPECT_LE(metric("ddsimp_client_queue_bytes_max"), double(kQueueMiB << 20));
+    EXPECT_EQ(metric("ddsimp_connections_dropped_total"), 0);
+}
+
 } // namespace
 } // namespace ddsimp::test
