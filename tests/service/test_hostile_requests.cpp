@@ -128,6 +128,9 @@ TEST_F(HostileRequests, APaddedRequestCostsOnlyWhatItsJobNeeds) {
     EXPECT_GT(job_bytes, 0);
     EXPECT_LT(job_bytes, 17 * 4096) << "a job holds more than its levels need";
     const size_t after = server_->status_bytes("VmRSS");
+    RecordProperty("rss_kib_one_padded", int(before >> 10));
+    RecordProperty("rss_kib_sixteen_padded", int(after >> 10));
+    RecordProperty("request_job_bytes", int(job_bytes));
     EXPECT_LE(after, before + with_sanitizer_memory(size_t(job_bytes) + kAllocatorSlack))
         << "resident " << (before >> 10) << " KiB with one padded request queued, "
         << (after >> 10) << " KiB with 16 (" << 15 * (kPadding >> 10) << " KiB more padding)";
@@ -201,6 +204,8 @@ TEST_F(HostileRequests, RememberedResultKeysStayWithinTheirBound) {
     const double bytes = metric("ddsimp_remembered_bytes");
     EXPECT_GT(remembered, 0);
     EXPECT_LT(remembered, 400) << "the bound forgot nothing";
+    RecordProperty("remembered_results", int(remembered));
+    RecordProperty("remembered_bytes", int(bytes));
     EXPECT_LE(bytes, kBoundKiB << 10);
     EXPECT_GT(bytes, (kBoundKiB << 10) / 2);
     // The newest key resumes; the oldest is forgotten.
