@@ -1,6 +1,7 @@
 // The .glb download: its query, its route, and Service::download_glb (declared in service.h).
 #include "glb_download.h"
 
+#include "client_limits.h"
 #include "http_server.h"
 #include "log_text.h"
 #include "service.h"
@@ -11,6 +12,7 @@
 #include <boost/beast/http/field.hpp>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -91,8 +93,9 @@ GlbDownload parse_glb_download(std::string_view target, std::string_view authori
         }
         params[*name] = *value;
     }
-    // The options as a Request carries them, so that they become the same Options.
-    v1::Request request;
+    // The query's options; they then travel as a Request carries them (protocol's one mapping,
+    // which also checks them), so a download and a request with the same values share a record.
+    Options options;
     for (const auto& [name, value] : params) {
         if (name == "alpha" || name == "keep") {
             const auto x = number(value);
@@ -102,30 +105,59 @@ GlbDownload parse_glb_download(std::string_view target, std::string_view authori
                           (name == "alpha" ? "[0, 1]" : "(0, 1]");
                 return d;
             }
-            if (name == "alpha") {
-                request.set_alpha(float(*x));
-                request.set_alpha_exact(*x);
-            } else {
+            if (name == "alpha")
+                options.alpha = *x;
+            else
                 d.keep = float(*x);
-            }
         } else if (name == "strategy") {
             if (value != "edge" && value != "vertex") {
                 d.error = "strategy=" + value + ": edge or vertex";
                 return d;
             }
-            request.set_strategy(protocol::to_wire(value == "edge" ? Strategy::EdgeCollapse
-                                                                   : Strategy::VertexRemoval));
+            options.strategy = value == "edge" ? Strategy::EdgeCollapse : Strategy::VertexRemoval;
         } else if (name == "placement") {
             if (value == "least-error")
-                request.set_placement(protocol::to_wire(Placement::LeastError));
+                options.placement = Placement::LeastError;
             else if (value == "midpoint")
-                request.set_placement(protocol::to_wire(Placement::Midpoint));
+                options.placement = Placement::Midpoint;
             else if (value == "volume")
-                request.set_placement(protocol::to_wire(Placement::VolumePreserving));
+                options.placement = Placement::VolumePreserving;
             else {
                 d.error = "placement=" + value + ": least-error, midpoint or volume";
                 return d;
             }
+        } else if (name == "terms") {
+            if (value != "quadrics" && value != "paper") {
+                d.error = "terms=" + value + ": quadrics or paper";
+                return d;
+            }
+            options.terms = value == "paper" ? Terms::AngleDeficitGradient : Terms::ErrorQuadrics;
+        } else if (name == "fields") {
+            // The fields that drive the data term, comma-separated (empty: all), within a
+            // request's limits.
+            for (size_t at = 0; at <= value.size();) {
+                const size_t comma = std::min(value.find(',', at), value.size());
+                if (comma > at) options.gradient_fields.push_back(value.substr(at, comma - at));
+                at = comma + 1;
+            }
+            if (options.gradient_fields.size() > kMaxFields) {
+                d.error = "fields: more than " + std::to_string(kMaxFields) + " fields";
+                return d;
+            }
+            for (const std::string& f : options.gradient_fields)
+                if (f.size() > kMaxNameBytes) {
+                    d.error = "fields: a field name of " + std::to_string(f.size()) +
+                              " bytes (at most " + std::to_string(kMaxNameBytes) + ")";
+                    return d;
+                }
+        } else if (name == "feature-angle") {
+            // A request cannot say 0 (on the wire it means none), so the range is (0, 180].
+            const auto x = number(value);
+            if (!x || *x <= 0 || *x > 180) {
+                d.error = "feature-angle=" + value + " is not a number of degrees in (0, 180]";
+                return d;
+            }
+            options.feature_angle = *x;
         } else if (name == "field") {
             d.field = value;
         } else if (name == "meshopt") {
@@ -138,14 +170,13 @@ GlbDownload parse_glb_download(std::string_view target, std::string_view authori
             d.key = value;
         } else {
             d.error = "unknown parameter '" + name +
-                      "' (alpha, keep, strategy, placement, field, meshopt, token, session, key)";
+                      "' (alpha, keep, strategy, placement, terms, fields, feature-angle, field, "
+                      "meshopt, token, session, key)";
             return d;
         }
     }
-    if (!request.has_alpha_exact()) {
-        request.set_alpha(0.5f);
-        request.set_alpha_exact(0.5);
-    }
+    v1::Request request;
+    protocol::set_options(request, options);
     try {
         d.options = protocol::options_from(request);
     } catch (const InputError& e) {
@@ -237,6 +268,8 @@ void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> 
                     options.colour_range = protocol::ColourRange{f.min, f.max};
             answer = GlbAnswer{200, "model/gltf-binary", protocol::write_glb(s, options), filename};
         } catch (const protocol::GlbError& e) {
+            answer = GlbAnswer{400, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+        } catch (const InputError& e) { // options the surface cannot take, e.g. an unknown field
             answer = GlbAnswer{400, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
         } catch (const std::invalid_argument& e) {
             answer = GlbAnswer{404, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};

@@ -1,6 +1,8 @@
 // GET /surfaces/ID/level.glb: any level the server can serve, as binary glTF (protocol/glb.h),
 // behind the server's token. Query parameters:
 //   alpha=0.5  keep=0.5  strategy=edge|vertex  placement=least-error|midpoint|volume
+//   terms=quadrics|paper  fields=A,B (the fields that drive the data term; default: all)
+//   feature-angle=DEGREES (in (0, 180]; 180, the default: no feature edges)
 //   field=NAME (the colours; default: the first scalar that varies)  meshopt=1
 //   token=T (or the header "Authorization: Bearer T")  session=NAME&key=K (a session's surfaces)
 // The options not named are a Request's defaults (protocol/reduction_options.h), so a download
@@ -30,7 +32,7 @@ struct GlbAnswer {
 // A parsed, checked download; `error` says what is wrong with it otherwise.
 struct GlbDownload {
     std::string surface;
-    Options options; // a Request's, with the query's alpha, strategy and placement
+    Options options; // a Request's, with the query's reduction options
     float keep = 0.5f;
     std::string field;
     bool meshopt = false;

@@ -137,5 +137,42 @@ TEST_F(SameBytes, ADownloadedGlbHoldsTheLibrarysLevel) {
     }
 }
 
+// The download takes the rest of a request's options too: the driving fields, the feature angle
+// and the term set, and gives the library's level for them.
+TEST_F(SameBytes, ADownloadTakesDrivingFieldsFeatureAngleAndTerms) {
+    const std::string query = "?alpha=0.6&keep=0.2&fields=pressure&feature-angle=40&terms=paper";
+    const std::string response =
+        test::http_get(server_->http_port, "/surfaces/" + *surface_ + "/level.glb" + query);
+    const size_t body = response.find("\r\n\r\n");
+    ASSERT_NE(body, std::string::npos) << response;
+    ASSERT_EQ(response.rfind("HTTP/1.1 200 OK", 0), 0u) << response.substr(0, 400);
+    const test::Glb glb(response.substr(body + 4));
+
+    Options local;
+    local.alpha = 0.6;
+    local.keep_fraction = 0.2;
+    local.gradient_fields = {"pressure"};
+    local.feature_angle = 40;
+    local.terms = Terms::AngleDeficitGradient;
+    const Surface expected = simplify(input(), local).surface;
+    EXPECT_EQ(glb.attribute("POSITION"),
+              std::vector<double>(expected.positions.begin(), expected.positions.end()));
+    EXPECT_EQ(glb.accessor(glb.primitive()["indices"]),
+              std::vector<double>(expected.triangles.begin(), expected.triangles.end()));
+    // and not the level of the defaults
+    Options defaults;
+    defaults.alpha = 0.6;
+    defaults.keep_fraction = 0.2;
+    const Surface other = simplify(input(), defaults).surface;
+    EXPECT_NE(glb.attribute("POSITION"),
+              std::vector<double>(other.positions.begin(), other.positions.end()));
+
+    const std::string unknown = test::http_get(
+        server_->http_port, "/surfaces/" + *surface_ + "/level.glb?keep=0.5&fields=nothing");
+    // as a request names it: NOT_FOUND
+    EXPECT_EQ(unknown.rfind("HTTP/1.1 404", 0), 0u) << unknown.substr(0, 400);
+    EXPECT_NE(unknown.find("nothing"), std::string::npos) << unknown;
+}
+
 } // namespace
 } // namespace ddsimp

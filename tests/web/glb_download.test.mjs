@@ -76,6 +76,15 @@ test('without the token, with a wrong one, or with bad parameters: refused with 
     assert.match(text(r), /keep=2 is not a number in \(0, 1\]/);
     r = await get(`keep=0.5&strategy=best&token=${TOKEN}`);
     assert.equal(r.status, 400);
+    r = await get(`keep=0.5&terms=best&token=${TOKEN}`);
+    assert.equal(r.status, 400);
+    assert.match(text(r), /terms=best: quadrics or paper/);
+    r = await get(`keep=0.5&feature-angle=0&token=${TOKEN}`);
+    assert.equal(r.status, 400);
+    assert.match(text(r), /feature-angle=0 is not a number of degrees in \(0, 180\]/);
+    r = await get(`keep=0.5&fields=${Array.from({ length: 65 }, (_, i) => `f${i}`)}&token=${TOKEN}`);
+    assert.equal(r.status, 400);
+    assert.match(text(r), /fields: more than 64 fields/);
     r = await get(`keep=0.5&field=nothing&token=${TOKEN}`);
     assert.equal(r.status, 400);
     assert.match(text(r), /no field 'nothing'/);
