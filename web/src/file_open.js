@@ -1,10 +1,12 @@
 // Opening a surface file in the page: the file button and drag-and-drop. The file is read here,
-// in the browser, with vtk.js's readers (.vtp, legacy ASCII POLYDATA .vtk, .ply, .obj, .stl) or
-// the few lines below (.off), and uploaded into the current session (or for this page) in
-// chunks, with the progress bar. A file that cannot be read gets a message; nothing else stops.
+// in the browser, with vtk.js's readers (.vtp, .ply, .obj, .stl), the page's own legacy .vtk
+// reader (vtk_legacy.js: ASCII and BINARY, POLYDATA and UNSTRUCTURED_GRID) or the few lines
+// below (.off), and uploaded into the current session (or for this page) in chunks, with the
+// progress bar. A file that cannot be read gets a message; nothing else stops.
 // vtk.js's readers are loaded when a file is opened (their own chunk), not with the page.
+import { readLegacyVtk, VtkFormatError } from './vtk_legacy.js';
+
 const READERS = {
-  '.vtk': () => import('@kitware/vtk.js/IO/Legacy/PolyDataReader'),
   '.vtp': () => import('@kitware/vtk.js/IO/XML/XMLPolyDataReader'),
   '.ply': () => import('@kitware/vtk.js/IO/Geometry/PLYReader'),
   '.stl': () => import('@kitware/vtk.js/IO/Geometry/STLReader'),
@@ -89,15 +91,7 @@ export async function readSurfaceFile(file) {
     if (ext === '.off') {
       surface = parseOff(await file.text());
     } else if (ext === '.vtk') {
-      const text = await file.text();
-      const dataset = /^DATASET\s+(\S+)/m.exec(text)?.[1];
-      if (/^BINARY\s*$/m.test(text.slice(0, 512)) || dataset !== 'POLYDATA')
-        throw new FileError(`the page reads legacy .vtk files only as ASCII POLYDATA (this one is ${
-          dataset ?? 'not a VTK data set'}${/^BINARY/m.test(text.slice(0, 512)) ? ', binary' : ''}); ` +
-          'save it as .vtp, or upload it with `ddsimp remote upload FILE`');
-      const reader = (await READERS[ext]()).default.newInstance();
-      reader.parseAsText(text);
-      surface = fromPolyData(reader.getOutputData());
+      surface = readLegacyVtk(new Uint8Array(await file.arrayBuffer()));
     } else {
       const reader = (await READERS[ext]()).default.newInstance();
       if (ext === '.obj') reader.parseAsText(await file.text());
@@ -106,6 +100,7 @@ export async function readSurfaceFile(file) {
     }
   } catch (e) {
     if (e instanceof FileError) throw e;
+    if (e instanceof VtkFormatError) throw new FileError(e.message);
     throw new FileError(`it is not a readable ${ext} file (${e.message || e})`);
   }
   check(surface);
