@@ -350,11 +350,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
 
     // The new vertex.
     for (int c = 0; c < 3; ++c) m.position_of(n)[c] = float(plan.point[c]);
-    const float* da = m.data_of(a);
-    const float* db = m.data_of(b);
-    float* dn = m.data_of(n);
-    for (size_t c = 0; c < m.stride; ++c)
-        dn[c] = float((1 - plan.along) * double(da[c]) + plan.along * double(db[c]));
+    m.blend_data(a, b, plan.along, n);
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
@@ -383,7 +379,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     id_[n] = uint32_t(record_.input_vertices_ + index);
     float* made = &made_[index * (3 + m.stride)];
     std::copy_n(m.position_of(n), 3, made);
-    std::copy_n(dn, m.stride, made + 3);
+    std::copy_n(m.data_of(n), m.stride, made + 3);
 
     // n, then its apexes (which lost a neighbour and may have merged line flags), then the rest
     // of its ring.

@@ -103,10 +103,12 @@ ErrorMeasure::ErrorMeasure(const Surface& vertices, const std::vector<uint32_t>&
     if (!(diagonal > 0)) return; // a point: no error can be measured (or made)
     inv_diagonal_ = 1 / diagonal;
     centre_ = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
-    const std::set<std::string> chosen(fields.begin(), fields.end());
+    const std::vector<std::string> names =
+        fields.empty() ? default_gradient_fields(vertices) : fields;
+    const std::set<std::string> chosen(names.begin(), names.end());
     for (size_t f = 0; f < vertices.fields.size(); ++f) {
         const Field& field = vertices.fields[f];
-        if (!chosen.empty() && !chosen.count(field.name)) continue;
+        if (!chosen.count(field.name)) continue;
         const size_t nc = size_t(field.components);
         std::vector<double> low(nc, INFINITY);
         double range = 0;

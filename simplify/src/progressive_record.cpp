@@ -14,6 +14,9 @@ ProgressiveRecord ProgressiveRecord::run(const Surface& input, const Options& op
     Surface surface = input;
     const RepairReport repairs = validate(surface);
     ProgressiveRecord record = Simplifier(surface, options, repairs).run();
+    // The run hands over each field's values; its kind is the input's.
+    for (size_t f = 0; f < record.vertices_.fields.size(); ++f)
+        record.vertices_.fields[f].kind = surface.fields[f].kind;
     // After the run, when the simplifier's memory is gone: the measurement's peak stays below it.
     if (measure) record.measure_errors(options.gradient_fields);
     return record;
@@ -77,7 +80,7 @@ Surface ProgressiveRecord::after(size_t operations) const {
         if (index[v] != 0xffffffffu)
             std::copy_n(&vertices_.positions[3 * v], 3, &out.positions[3 * size_t(index[v])]);
     for (const Field& f : vertices_.fields) {
-        Field g{f.name, f.components, {}};
+        Field g{f.name, f.components, {}, f.kind};
         const size_t nc = size_t(f.components);
         g.values.resize(size_t(count) * nc);
         for (size_t v = 0; v < nv; ++v)

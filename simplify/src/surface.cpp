@@ -8,6 +8,13 @@ const Field* Surface::find_field(std::string_view name) const {
     return nullptr;
 }
 
+std::vector<std::string> default_gradient_fields(const Surface& surface) {
+    std::vector<std::string> names;
+    for (const Field& field : surface.fields)
+        if (field.kind == FieldKind::Continuous) names.push_back(field.name);
+    return names;
+}
+
 const char* describe(StopReason reason) {
     switch (reason) {
     case StopReason::TargetReached:

@@ -14,7 +14,8 @@ void GradientTerms::setup(const Surface& s, const std::vector<std::string>& fiel
             throw InputError("unknown field '" + name +
                              "' (the surface has: " + (known.empty() ? "no fields" : known) + ")");
         }
-    const std::set<std::string> chosen(fields.begin(), fields.end());
+    const std::vector<std::string> names = fields.empty() ? default_gradient_fields(s) : fields;
+    const std::set<std::string> chosen(names.begin(), names.end());
 
     std::vector<uint8_t> used(s.vertex_count(), 0);
     for (uint32_t v : s.triangles) used[v] = 1;
@@ -23,7 +24,7 @@ void GradientTerms::setup(const Surface& s, const std::vector<std::string>& fiel
     uint32_t offset = 0;
     for (const Field& f : s.fields) {
         const size_t nc = size_t(f.components);
-        if (chosen.empty() || chosen.count(f.name)) {
+        if (chosen.count(f.name)) {
             double range = 0;
             for (size_t c = 0; c < nc; ++c) {
                 double lo = INFINITY, hi = -INFINITY;

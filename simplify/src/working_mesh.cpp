@@ -12,7 +12,9 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     limits = lim;
     vertex_count = s.vertex_count();
     stride = 0;
-    for (const Field& f : s.fields) stride += size_t(f.components);
+    fields.clear();
+    for (const Field& f : s.fields)
+        stride += size_t(f.components), fields.emplace_back(f.kind, f.components);
     record = 6 + stride;
     records.assign(record * capacity, 0.0f);
     const bool reorder = !order.empty();
@@ -192,6 +194,25 @@ void WorkingMesh::reset_out(uint32_t v, uint32_t h) {
         if (h == start) break;
     }
     out[v] = h;
+}
+
+void WorkingMesh::blend_data(uint32_t a, uint32_t b, double along, uint32_t n) {
+    const float *da = data_of(a), *db = data_of(b);
+    float* dn = data_of(n); // may be da: each component is read before it is written
+    for (const auto& [kind, components] : fields) {
+        const size_t nc = size_t(components);
+        for (size_t c = 0; c < nc; ++c)
+            dn[c] = kind == FieldKind::Label
+                        ? (along <= 0.5 ? da[c] : db[c])
+                        : float((1 - along) * double(da[c]) + along * double(db[c]));
+        if (kind == FieldKind::Direction) {
+            double length = 0;
+            for (size_t c = 0; c < nc; ++c) length += double(dn[c]) * dn[c];
+            length = std::sqrt(length);
+            for (size_t c = 0; c < nc && length > 0; ++c) dn[c] = float(dn[c] / length);
+        }
+        da += nc, db += nc, dn += nc;
+    }
 }
 
 double WorkingMesh::curvature(uint32_t v) const {

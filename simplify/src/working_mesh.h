@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace ddsimp::detail {
@@ -109,6 +110,7 @@ struct WorkingMesh {
     // vertices: one cache line per vertex instead of three.
     std::vector<float> records;
     size_t stride = 0, record = 6;
+    std::vector<std::pair<FieldKind, int>> fields; // each field's kind and components, in order
     std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
     std::vector<VertexKind> kind;
     std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
@@ -146,6 +148,9 @@ struct WorkingMesh {
     const float* reference_of(uint32_t v) const { return &records[size_t(v) * record + 3]; }
     float* data_of(uint32_t v) { return &records[size_t(v) * record + 6]; }
     const float* data_of(uint32_t v) const { return &records[size_t(v) * record + 6]; }
+    // Sets the data of n (which may be a's slot) for a new vertex at `along` (0 at a, 1 at b) on
+    // the edge a-b, each field as its kind says (see FieldKind).
+    void blend_data(uint32_t a, uint32_t b, double along, uint32_t n);
 
     Vec3 reference_normal(uint32_t v) const {
         const float* n = reference_of(v);

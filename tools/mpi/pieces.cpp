@@ -100,7 +100,7 @@ std::vector<Piece> split_surface(const Surface& s, const std::vector<uint32_t>& 
                 for (int i = 0; i < 3; ++i)
                     piece.surface.triangles.push_back(local[s.triangles[3 * t + i]]);
         for (const Field& f : s.fields) {
-            Field g{f.name, f.components, {}};
+            Field g{f.name, f.components, {}, f.kind};
             const size_t nc = size_t(f.components);
             g.values.reserve(count * nc);
             for (size_t v = 0; v < nv; ++v)
@@ -128,7 +128,7 @@ ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record) {
         out.border.push_back(v < piece.border.size() ? piece.border[v] : kNoId);
     }
     for (const Field& f : vertices.fields) {
-        Field g{f.name, f.components, {}};
+        Field g{f.name, f.components, {}, f.kind};
         const size_t nc = size_t(f.components);
         g.values.reserve(size_t(count) * nc);
         for (size_t v = 0; v < nv; ++v)

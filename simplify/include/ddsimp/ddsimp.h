@@ -25,12 +25,23 @@ inline constexpr int algorithm_version = 15;
 // Surface
 // ---------------------------------------------------------------------------------------------
 
+// What a field's values are: it decides how an operation that makes a new vertex sets them, and
+// whether the field drives the data term when Options::gradient_fields is empty.
+enum class FieldKind {
+    Continuous, // a sampled quantity (pressure, velocity): interpolated; drives by default
+    Label,      // ids, labels, integer counts: a new vertex takes the values of the edge's end
+                // nearer to it (never a mix of two); does not drive by default
+    Direction,  // unit vectors such as normals: interpolated, then scaled back to unit length;
+                // does not drive by default
+};
+
 // One named per-vertex field: `components` floats per vertex, vertex-major
 // (values[v * components + c]). A scalar has 1 component, a velocity 3.
 struct Field {
     std::string name;
     int components = 1;
     std::vector<float> values;
+    FieldKind kind = FieldKind::Continuous;
 };
 
 // An indexed triangle surface: 3 floats per vertex, 3 vertex indices per triangle, and any number
@@ -106,9 +117,13 @@ std::vector<float> vertex_curvature(const Surface& surface);
 // Unit-free data gradient of every vertex: max over neighbours v_i of
 // ||f_i - f||_1 / ||x_i - x||_1, where each field's components are divided by that field's range
 // (the largest max - min of its components over the surface) and lengths by the bounding-box
-// diagonal. `fields` names the fields that count; empty means all. Throws InputError for an
-// unknown field name. Like vertex_curvature, on the repaired surface; complex vertices get 0.
+// diagonal. `fields` names the fields that count; empty means default_gradient_fields. Throws
+// InputError for an unknown field name. Like vertex_curvature, on the repaired surface; complex
+// vertices get 0.
 std::vector<float> vertex_gradient(const Surface& surface, const std::vector<std::string>& fields);
+
+// The fields that drive the data term when none are named: those of kind Continuous, in order.
+std::vector<std::string> default_gradient_fields(const Surface& surface);
 
 // ---------------------------------------------------------------------------------------------
 // Simplification
@@ -170,7 +185,7 @@ struct Options {
     // error).
     double max_weight = std::numeric_limits<double>::infinity();
 
-    // Fields that drive the gradient (data) term; empty means all fields.
+    // Fields that drive the gradient (data) term; empty means default_gradient_fields.
     std::vector<std::string> gradient_fields;
     // An edge whose two triangles' normals differ by more than this (degrees) is a feature edge;
     // 180 disables features.
