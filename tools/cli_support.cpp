@@ -74,6 +74,27 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+namespace {
+void print_notes(const std::string& path, const io::Notes& notes) {
+    for (const std::string& note : notes)
+        std::fprintf(stderr, "ddsimp: note: %s: %s\n", path.c_str(), note.c_str());
+}
+} // namespace
+
+Surface read_input(const std::string& path) {
+    io::Notes notes;
+    Surface surface = io::read_surface(path, &notes);
+    print_notes(path, notes);
+    return surface;
+}
+
+void write_output(const Surface& surface, const std::string& path,
+                  const io::WriteOptions& options) {
+    io::Notes notes;
+    io::write_surface(surface, path, options, &notes);
+    print_notes(path, notes);
+}
+
 nlohmann::json repairs_json(const RepairReport& r) {
     return {{"degenerate_triangles_dropped", r.degenerate_triangles_dropped},
             {"duplicate_triangles_dropped", r.duplicate_triangles_dropped},

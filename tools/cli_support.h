@@ -2,6 +2,7 @@
 #pragma once
 
 #include "ddsimp/ddsimp.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <nlohmann/json.hpp>
 
@@ -57,6 +58,13 @@ private:
     bool active_;
     int shown_ = -1;
 };
+
+// io::read_surface and io::write_surface, each note of the reader (what it triangulated, set
+// aside or read of a file cut short) or of the writer (the fields it cannot hold) printed on
+// stderr as "ddsimp: note: PATH: ...".
+Surface read_input(const std::string& path);
+void write_output(const Surface& surface, const std::string& path,
+                  const io::WriteOptions& options = {});
 
 // What validate() repaired, as the "repairs" object of --json outputs.
 nlohmann::json repairs_json(const RepairReport& repairs);

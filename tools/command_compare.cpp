@@ -47,8 +47,8 @@ std::vector<std::string> error_cells(const std::string& label, const tools::TwoW
 }
 
 int run_compare(const CompareArgs& args) {
-    const Surface original = io::read_surface(args.original);
-    const Surface reduced = io::read_surface(args.reduced);
+    const Surface original = read_input(args.original);
+    const Surface reduced = read_input(args.reduced);
     require_fields(original, args.fields, args.original);
     require_fields(reduced, args.fields, args.reduced);
 

@@ -39,7 +39,12 @@ FieldRange range_of(const Field& f, size_t vertices) {
 }
 
 int run_info(const InfoArgs& args) {
-    const Surface surface = io::read_surface(args.input);
+    io::Notes notes;
+    const Surface surface = io::read_surface(args.input, &notes);
+    const std::vector<std::string> driving = default_gradient_fields(surface);
+    auto drives = [&](const Field& f) {
+        return std::find(driving.begin(), driving.end(), f.name) != driving.end();
+    };
     Surface repaired = surface;
     RepairReport repairs;
     Topology topology;
@@ -54,8 +59,12 @@ int run_info(const InfoArgs& args) {
         nlohmann::json fields = nlohmann::json::array();
         for (const Field& f : surface.fields) {
             const FieldRange r = range_of(f, surface.vertex_count());
-            fields.push_back(
-                {{"name", f.name}, {"components", f.components}, {"min", r.min}, {"max", r.max}});
+            fields.push_back({{"name", f.name},
+                              {"components", f.components},
+                              {"kind", io::describe(f.kind)},
+                              {"drives_by_default", drives(f)},
+                              {"min", r.min},
+                              {"max", r.max}});
         }
         nlohmann::json out = {
             {"input", args.input},
@@ -73,6 +82,7 @@ int run_info(const InfoArgs& args) {
               {"nonmanifold_edges", topology.nonmanifold_edges},
               {"nonmanifold_vertices", topology.nonmanifold_vertices}}},
             {"repairs", repairs_json(repairs)},
+            {"notes", notes},
         };
         std::printf("%s\n", out.dump().c_str());
         return kExitOk;
@@ -85,21 +95,19 @@ int run_info(const InfoArgs& args) {
     if (repairs.degenerate_triangles_dropped || repairs.duplicate_triangles_dropped)
         std::printf(" (%zu degenerate and %zu duplicate; the rest is analysed)",
                     repairs.degenerate_triangles_dropped, repairs.duplicate_triangles_dropped);
-    std::printf("\n  %-22s %zu (%zu boundary, %zu non-manifold)\n", "edges", topology.edges,
-                topology.boundary_edges, topology.nonmanifold_edges);
-    std::printf("  %-22s %lld\n", "euler characteristic", topology.euler_characteristic);
-    std::printf("  %-22s %zu\n", "boundary loops", topology.boundary_loops);
-    std::printf("  %-22s %zu\n", "components", topology.components);
-    std::printf("  %-22s %zu\n", "non-manifold vertices", topology.nonmanifold_vertices);
-    std::printf("  %-22s %zu\n", "fields", surface.fields.size());
+    std::printf("  %-22s %zu (driving the data term by default: %s)\n", "fields",
+                surface.fields.size(), driving.empty() ? "none" : join(driving).c_str());
+    for (const std::string& note : notes) std::printf("  note: %s\n", note.c_str());
     if (surface.fields.empty()) return kExitOk;
     // One row per component: a vector's as NAME[0], NAME[1], ...
     using Align = TextTable::Align;
-    TextTable table({{"field"}, {"min", Align::Right}, {"max", Align::Right}});
+    TextTable table(
+        {{"field"}, {"kind"}, {"data term"}, {"min", Align::Right}, {"max", Align::Right}});
     for (const Field& f : surface.fields) {
         const FieldRange r = range_of(f, surface.vertex_count());
         for (int c = 0; c < f.components; ++c)
             table.add_row({f.components == 1 ? f.name : f.name + "[" + std::to_string(c) + "]",
+                           io::describe(f.kind), drives(f) ? "drives" : "carried",
                            table_number(r.min[c]), table_number(r.max[c])});
     }
     std::printf("\n%s", table.render("  ").c_str());

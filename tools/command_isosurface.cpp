@@ -25,7 +25,7 @@ int run_isosurface(const IsosurfaceArgs& args) {
     const auto start = std::chrono::steady_clock::now();
     const Surface surface = io::extract_isosurface(args.volume, args.options);
     const double seconds = seconds_since(start);
-    io::write_surface(surface, args.output);
+    write_output(surface, args.output);
     if (args.json) {
         std::vector<std::string> names;
         for (const Field& f : surface.fields) names.push_back(f.name);

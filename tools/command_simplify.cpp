@@ -17,7 +17,7 @@ namespace {
 int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
     Options options = simplify_options(args, app);
     io::check_output_path(args.output);
-    const Surface input = io::read_surface(args.input);
+    const Surface input = read_input(args.input);
     require_fields(input, args.fields, args.input);
 
     Result result;
@@ -33,7 +33,7 @@ int run_simplify(const SimplifyArgs& args, const CLI::App& app) {
         }
         seconds = seconds_since(start);
     }
-    io::write_surface(result.surface, args.output, io::WriteOptions{args.colour_by, args.meshopt});
+    write_output(result.surface, args.output, io::WriteOptions{args.colour_by, args.meshopt});
 
     if (args.json)
         std::printf("%s\n", simplify_json(args, options, result, seconds).dump().c_str());

@@ -2,7 +2,9 @@
 
 #include "ddsimp/io/surface_io.h"
 #include "ddsimp/openmesh.h" // TriMesh
+#include "field_kinds.h"
 #include "file_header_checks.h"
+#include "polygons.h"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/exporter/ExporterT.hh>
@@ -11,6 +13,7 @@
 
 #include <cctype>
 #include <cstdint>
+#include <fstream>
 #include <optional>
 
 namespace ddsimp::io {
@@ -25,13 +28,9 @@ public:
     explicit SurfaceImporter(TriMesh& mesh) : ImporterT(mesh), mesh_(mesh) {}
 
     OpenMesh::FaceHandle add_face(const VHandles& corners) override {
-        const size_t face = faces_++;
-        if (corners.size() != 3) {
-            if (!first_polygon_) first_polygon_ = {face, corners.size()};
-        } else {
-            for (OpenMesh::VertexHandle vh : corners)
-                triangles.push_back(vh.is_valid() ? uint32_t(vh.idx()) : UINT32_MAX);
-        }
+        for (OpenMesh::VertexHandle vh : corners)
+            corners_.push_back(vh.is_valid() ? uint32_t(vh.idx()) : UINT32_MAX);
+        ends_.push_back(corners_.size());
         return mesh_.new_face();
     }
     // Texture coordinates are not kept; ImporterT's versions walk the face's (absent) halfedges.
@@ -39,18 +38,28 @@ public:
                             const std::vector<OpenMesh::Vec2f>&) override {}
     void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
                             const std::vector<OpenMesh::Vec3f>&) override {}
-    // Readers must hand polygons over as they are: we report them rather than triangulate.
+    // Readers must hand polygons over as they are: they are split once the points are known.
     bool is_triangle_mesh() const override { return false; }
-    size_t n_faces() const override { return faces_; }
+    size_t n_faces() const override { return ends_.size(); }
 
-    size_t faces() const { return faces_; }
-    std::optional<std::pair<size_t, size_t>> first_polygon() const { return first_polygon_; }
-    std::vector<uint32_t> triangles;
+    size_t faces() const { return ends_.size(); }
+    // The faces in file order as triangles (polygons split, see PolygonSplitter).
+    std::vector<uint32_t> triangles(const std::vector<float>& positions,
+                                    PolygonSplitter& splitter) const {
+        std::vector<uint32_t> out;
+        out.reserve(corners_.size());
+        size_t begin = 0;
+        for (size_t end : ends_) {
+            splitter.split(positions, corners_.data() + begin, end - begin, out);
+            begin = end;
+        }
+        return out;
+    }
 
 private:
     TriMesh& mesh_;
-    size_t faces_ = 0;
-    std::optional<std::pair<size_t, size_t>> first_polygon_; // {face, corners}
+    std::vector<uint32_t> corners_; // every face's corners, one after the other
+    std::vector<size_t> ends_;      // where each face's corners end
 };
 
 // Gives OpenMesh's writers the surface's triangles as they are (no connectivity needed, so
@@ -84,15 +93,22 @@ bool copy_if_type(const OpenMesh::BaseProperty& base, size_t n, std::vector<floa
     return true;
 }
 
-// A scalar vertex property the PLY reader made from the file (any numeric type) as floats.
-std::optional<std::vector<float>> scalar_as_floats(const OpenMesh::BaseProperty& base, size_t n) {
-    std::vector<float> out;
-    if (copy_if_type<float>(base, n, out) || copy_if_type<double>(base, n, out) ||
-        copy_if_type<int8_t>(base, n, out) || copy_if_type<uint8_t>(base, n, out) ||
-        copy_if_type<int16_t>(base, n, out) || copy_if_type<uint16_t>(base, n, out) ||
-        copy_if_type<int32_t>(base, n, out) || copy_if_type<uint32_t>(base, n, out))
-        return out;
-    return std::nullopt;
+// A scalar vertex property the PLY reader made from the file (any numeric type) as a float field
+// of the kind its type and name say (see field_kind).
+std::optional<Field> scalar_as_field(const OpenMesh::BaseProperty& base, size_t n) {
+    Field field{base.name(), 1, {}};
+    std::vector<float>& v = field.values;
+    bool integer = false;
+    if (copy_if_type<float>(base, n, v) || copy_if_type<double>(base, n, v))
+        integer = false;
+    else if (copy_if_type<int8_t>(base, n, v) || copy_if_type<uint8_t>(base, n, v) ||
+             copy_if_type<int16_t>(base, n, v) || copy_if_type<uint16_t>(base, n, v) ||
+             copy_if_type<int32_t>(base, n, v) || copy_if_type<uint32_t>(base, n, v))
+        integer = true;
+    else
+        return std::nullopt;
+    field.kind = field_kind(field.name, 1, integer);
+    return field;
 }
 
 // Vertex properties "name[0]" .. "name[k-1]" (how we write a k-component field to PLY) become
@@ -116,6 +132,8 @@ void regroup_component_fields(Surface& surface) {
         Field field;
         field.name = base;
         field.components = int(k);
+        field.kind = surface.fields[i].kind == FieldKind::Label ? FieldKind::Label
+                                                                : field_kind(base, int(k), false);
         const size_t n = surface.vertex_count();
         field.values.resize(n * k);
         for (size_t c = 0; c < k; ++c)
@@ -125,6 +143,25 @@ void regroup_component_fields(Surface& surface) {
         i += k;
     }
     surface.fields = std::move(grouped);
+}
+
+// OBJ's point ("p") and line ("l") elements, which OpenMesh's reader skips: a note says how many.
+std::string obj_points_and_lines(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    size_t points = 0, lines = 0;
+    for (std::string line; std::getline(in, line);) {
+        const size_t f = line.find_first_not_of(" \t\r");
+        if (f == std::string::npos || line.size() < f + 2 ||
+            (line[f + 1] != ' ' && line[f + 1] != '\t'))
+            continue;
+        points += line[f] == 'p', lines += line[f] == 'l';
+    }
+    if (points + lines == 0) return "";
+    std::string what;
+    if (points > 0) what = std::to_string(points) + " point";
+    if (lines > 0) what += (what.empty() ? "" : " and ") + std::to_string(lines) + " line";
+    return what + (points + lines == 1 ? " element" : " elements") +
+           " set aside (a surface is made of its faces)";
 }
 
 // OpenMesh prints its complaints to stderr; we turn them into one error instead.
@@ -142,7 +179,7 @@ public:
 
 } // namespace
 
-Surface read_openmesh_file(const std::string& path, const std::string& extension) {
+Surface read_openmesh_file(const std::string& path, const std::string& extension, Notes* notes) {
     const std::string context = "cannot read " + path;
     // The header check first: its message says more than the reader's failure, and OpenMesh's
     // readers trust a header's counts.
@@ -150,7 +187,9 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
         throw IoError(context + ": " + problem);
     TriMesh mesh;
     SurfaceImporter importer(mesh);
+    mesh.request_vertex_normals();
     OpenMesh::IO::Options options = OpenMesh::IO::Options::Custom; // PLY vertex properties
+    if (extension == ".ply") options += OpenMesh::IO::Options::VertexNormal;
     bool ok;
     {
         QuietOpenMesh quiet;
@@ -158,9 +197,6 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
     }
     if (!ok)
         throw IoError(context + ": OpenMesh's " + extension + " reader failed (malformed file?)");
-    if (auto polygon = importer.first_polygon())
-        throw IoError(context + ": face " + std::to_string(polygon->first) + " has " +
-                      std::to_string(polygon->second) + " vertices; only triangles are supported");
     if (auto declared = declared_face_count(path, extension);
         declared && *declared != importer.faces())
         throw IoError(context + ": the file declares " + std::to_string(*declared) +
@@ -171,12 +207,23 @@ Surface read_openmesh_file(const std::string& path, const std::string& extension
     surface.positions.reserve(3 * mesh.n_vertices());
     for (auto vh : mesh.vertices())
         for (int c = 0; c < 3; ++c) surface.positions.push_back(mesh.point(vh)[c]);
-    surface.triangles = std::move(importer.triangles);
+    PolygonSplitter splitter;
+    surface.triangles = importer.triangles(surface.positions, splitter);
+    if (notes && !splitter.note().empty()) notes->push_back(splitter.note());
+    if (notes && extension == ".obj")
+        if (std::string note = obj_points_and_lines(path); !note.empty()) notes->push_back(note);
     for (auto it = mesh.vprops_begin(); it != mesh.vprops_end(); ++it)
         if (*it != nullptr && (*it)->name().rfind("v:", 0) != 0)
-            if (auto values = scalar_as_floats(**it, mesh.n_vertices()))
-                surface.fields.push_back({(*it)->name(), 1, std::move(*values)});
+            if (auto field = scalar_as_field(**it, mesh.n_vertices()))
+                surface.fields.push_back(std::move(*field));
     regroup_component_fields(surface);
+    if (options.vertex_has_normal()) {
+        Field normals{"Normals", 3, {}, FieldKind::Direction};
+        normals.values.reserve(3 * mesh.n_vertices());
+        for (auto vh : mesh.vertices())
+            for (int c = 0; c < 3; ++c) normals.values.push_back(mesh.normal(vh)[c]);
+        surface.fields.push_back(std::move(normals));
+    }
     return surface;
 }
 

@@ -1,7 +1,9 @@
 // Chooses the reader or writer by extension and turns every failure into one IoError line.
 #include "ddsimp/io/surface_io.h"
 
+#include "off_reader.h"
 #include "openmesh_files.h"
+#include "stl_reader.h"
 #include "vtk_files.h"
 
 #include "ddsimp/protocol/glb.h"
@@ -10,6 +12,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace ddsimp::io {
 
@@ -91,13 +94,21 @@ std::string extension_of(const std::string& path) {
     return ext;
 }
 
-Surface read_surface(const std::string& path) {
+Surface read_surface(const std::string& path, Notes* notes) {
     const std::string ext = extension_of(path);
     if (!is_vtk_format(ext) && !is_openmesh_readable(ext))
         throw IoError("cannot read " + path + ": unknown extension '" + ext +
                       "' (readable: .vtk .vtp .ply .obj .off .stl)");
     check_readable(path);
-    Surface surface = is_vtk_format(ext) ? read_vtk_file(path, ext) : read_openmesh_file(path, ext);
+    std::optional<Surface> read;
+    if (is_vtk_format(ext))
+        read = read_vtk_file(path, ext, notes);
+    else if (ext == ".off")
+        read = read_ascii_off(path, "cannot read " + path, notes);
+    else if (ext == ".stl")
+        read = read_binary_stl(path, "cannot read " + path, notes);
+    if (!read) read = read_openmesh_file(path, ext, notes); // also binary .off, ASCII .stl
+    Surface surface = std::move(*read);
     if (surface.triangle_count() == 0)
         throw IoError("cannot read " + path + ": the file holds no triangles");
     return surface;
@@ -111,7 +122,8 @@ void check_output_path(const std::string& path) {
     check_writable(path);
 }
 
-void write_surface(const Surface& surface, const std::string& path, const WriteOptions& options) {
+void write_surface(const Surface& surface, const std::string& path, const WriteOptions& options,
+                   Notes* notes) {
     check_output_path(path);
     check_shape(surface, path);
     const std::string ext = extension_of(path);
@@ -121,6 +133,13 @@ void write_surface(const Surface& surface, const std::string& path, const WriteO
         write_vtk_file(surface, path, ext);
     else
         write_openmesh_file(surface, path, ext);
+    if (notes && (ext == ".obj" || ext == ".off") && !surface.fields.empty()) {
+        std::string names;
+        for (const Field& f : surface.fields) names += (names.empty() ? "" : ", ") + f.name;
+        notes->push_back("the " + ext + " format holds no per-vertex data: " + names +
+                         (surface.fields.size() == 1 ? " is" : " are") +
+                         " not written (.vtk, .vtp and .ply keep fields)");
+    }
 }
 
 } // namespace ddsimp::io

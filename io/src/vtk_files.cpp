@@ -29,7 +29,7 @@ vtkSmartPointer<vtkDataSetReader> legacy_reader(const std::string& path) {
 
 namespace {
 
-Surface read_legacy(const std::string& path, const std::string& context) {
+Surface read_legacy(const std::string& path, const std::string& context, Notes* notes) {
     if (const std::string problem = check_legacy_vtk(path); !problem.empty())
         throw IoError(context + ": " + problem);
     VtkMessageCapture messages;
@@ -42,10 +42,10 @@ Surface read_legacy(const std::string& path, const std::string& context) {
     vtkDataSet* data = reader->GetOutput();
     if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
     if (data == nullptr) throw IoError(context + ": not a VTK legacy data set");
-    return surface_from_dataset(data, context);
+    return surface_from_dataset(data, context, {}, notes);
 }
 
-Surface read_xml_polydata(const std::string& path, const std::string& context) {
+Surface read_xml_polydata(const std::string& path, const std::string& context, Notes* notes) {
     VtkMessageCapture messages;
     auto reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
     if (!reader->CanReadFile(path.c_str()))
@@ -53,14 +53,15 @@ Surface read_xml_polydata(const std::string& path, const std::string& context) {
     reader->SetFileName(path.c_str());
     reader->Update();
     if (messages.has_error()) throw IoError(context + ": " + messages.first_error());
-    return surface_from_dataset(reader->GetOutput(), context);
+    return surface_from_dataset(reader->GetOutput(), context, {}, notes);
 }
 
 } // namespace
 
-Surface read_vtk_file(const std::string& path, const std::string& extension) {
+Surface read_vtk_file(const std::string& path, const std::string& extension, Notes* notes) {
     const std::string context = "cannot read " + path;
-    return extension == ".vtp" ? read_xml_polydata(path, context) : read_legacy(path, context);
+    return extension == ".vtp" ? read_xml_polydata(path, context, notes)
+                               : read_legacy(path, context, notes);
 }
 
 void write_vtk_file(const Surface& surface, const std::string& path, const std::string& extension) {

@@ -1,7 +1,7 @@
 // Surfaces in VTK's file formats (internal to ddsimp_io; use surface_io.h).
 #pragma once
 
-#include "ddsimp/ddsimp.h"
+#include "ddsimp/io/surface_io.h"
 
 #include <vtkDataSetReader.h>
 #include <vtkSmartPointer.h>
@@ -10,8 +10,9 @@
 
 namespace ddsimp::io {
 
-// Legacy .vtk (POLYDATA or UNSTRUCTURED_GRID of triangles, ASCII or binary) or XML .vtp.
-Surface read_vtk_file(const std::string& path, const std::string& extension);
+// Legacy .vtk (POLYDATA or UNSTRUCTURED_GRID, ASCII or binary) or XML .vtp; what is not a
+// triangle is handled as surface_from_dataset says (vtk_surface.h), with notes.
+Surface read_vtk_file(const std::string& path, const std::string& extension, Notes* notes);
 // Legacy .vtk (binary POLYDATA, file version 4.2 for older readers) or XML .vtp (zlib, raw).
 void write_vtk_file(const Surface& surface, const std::string& path, const std::string& extension);
 

@@ -90,9 +90,11 @@ std::string field_data_problem(vtkDataReader& reader, VtkMessageCapture& message
             return array + ": " + problem;
         messages.clear();
         vtkAbstractArray* data = reader.ReadArray(type, tuples, components);
-        if (data == nullptr)
-            return messages.has_error() ? messages.first_error() : array + ": VTK cannot read it";
-        data->Delete();
+        if (data != nullptr) data->Delete();
+        if (data == nullptr || messages.has_error())
+            return array + " " + io::quoted(name) + " (" + std::to_string(components) + " x " +
+                   std::to_string(tuples) + " " + type +
+                   "): " + (messages.has_error() ? messages.first_error() : "VTK cannot read it");
     }
     return "";
 }

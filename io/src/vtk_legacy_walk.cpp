@@ -141,9 +141,10 @@ vtkSmartPointer<vtkAbstractArray> DataSetWalk::read_array(const std::string& wha
     }
     messages_.clear();
     auto array = vtk::TakeSmartPointer(reader_->ReadArray(type, tuples, components));
-    if (!array)
-        problem =
-            what + ": " + (messages_.has_error() ? messages_.first_error() : "VTK cannot read it");
+    if (!array || messages_.has_error())
+        problem = what + " (" + std::to_string(tuples) + " tuples of " +
+                  std::to_string(components) + " " + type +
+                  "): " + (messages_.has_error() ? messages_.first_error() : "VTK cannot read it");
     else if (numeric && !vtkDataArray::SafeDownCast(array))
         problem = what + ": " + io::quoted(type) + " is not a numeric type";
     return problem.empty() ? array : nullptr;

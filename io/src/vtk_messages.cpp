@@ -31,7 +31,13 @@ public:
         void DisplayText(const char*) override {}
     void DisplayErrorText(const char* text) override { errors.push_back(clean_message(text)); }
     void DisplayWarningText(const char*) override {}
-    void DisplayGenericWarningText(const char*) override {}
+    // VTK's legacy reader only warns when an ASCII array ends before its declared size, and
+    // leaves the rest of the array uninitialised: that is an error here.
+    void DisplayGenericWarningText(const char* text) override {
+        if (std::string(text).find("Possible mismatch of datasize") != std::string::npos)
+            errors.push_back("the file ends, or has a word that is not a number, before the "
+                             "values it declares");
+    }
     void DisplayDebugText(const char*) override {}
 
     std::vector<std::string> errors;

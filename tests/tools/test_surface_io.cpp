@@ -140,39 +140,12 @@ TEST(SurfaceIoErrors, GarbageVtkFile) {
     EXPECT_EQ(io_error_of([&] { io::read_surface(path); }).rfind("cannot read " + path, 0), 0u);
 }
 
-TEST(SurfaceIoErrors, QuadCellInVtkIsNamed) {
-    ScratchDir dir;
-    const std::string path = dir.file("quad.vtk");
-    write_text(path, "# vtk DataFile Version 3.0\nquad\nASCII\nDATASET POLYDATA\nPOINTS 5 float\n"
-                     "0 0 0 1 0 0 1 1 0 0 1 0 2 0 0\nPOLYGONS 2 9\n3 0 1 4\n4 0 1 2 3\n");
-    const std::string message = io_error_of([&] { io::read_surface(path); });
-    EXPECT_NE(message.find("cell 1 is a polygon with 4 points"), std::string::npos) << message;
-}
-
-TEST(SurfaceIoErrors, QuadInUnstructuredGridIsNamed) {
-    ScratchDir dir;
-    const std::string path = dir.file("grid.vtk");
-    write_text(path, "# vtk DataFile Version 3.0\ngrid\nASCII\nDATASET UNSTRUCTURED_GRID\n"
-                     "POINTS 5 float\n0 0 0 1 0 0 1 1 0 0 1 0 2 0 0\nCELLS 2 9\n3 0 1 4\n"
-                     "4 0 1 2 3\nCELL_TYPES 2\n5\n9\n");
-    const std::string message = io_error_of([&] { io::read_surface(path); });
-    EXPECT_NE(message.find("cell 1 is a vtkQuad"), std::string::npos) << message;
-}
-
 TEST(SurfaceIoErrors, TruncatedOffNamesTheMissingFaces) {
     ScratchDir dir;
     const std::string path = dir.file("short.off");
     write_text(path, "OFF\n4 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n");
     const std::string message = io_error_of([&] { io::read_surface(path); });
     EXPECT_EQ(message.rfind("cannot read " + path + ": ", 0), 0u) << message;
-}
-
-TEST(SurfaceIoErrors, QuadFaceInOffIsNamed) {
-    ScratchDir dir;
-    const std::string path = dir.file("quad.off");
-    write_text(path, "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 0 0\n3 0 1 4\n4 0 1 2 3\n");
-    const std::string message = io_error_of([&] { io::read_surface(path); });
-    EXPECT_NE(message.find("face 1 has 4 vertices"), std::string::npos) << message;
 }
 
 TEST(SurfaceIoErrors, EmptyFile) {
