@@ -13,4 +13,8 @@ namespace ddsimp::io {
 FieldKind field_kind(const std::string& name, int components, bool integer_type,
                      bool is_normals = false);
 
+// Scalar fields "name[0]" .. "name[k-1]" (how a k-component field is written to PLY) made one
+// field "name" of k components again; its kind from the components' (a label stays a label).
+void regroup_component_fields(Surface& surface);
+
 } // namespace ddsimp::io

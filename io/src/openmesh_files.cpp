@@ -111,40 +111,6 @@ std::optional<Field> scalar_as_field(const OpenMesh::BaseProperty& base, size_t 
     return field;
 }
 
-// Vertex properties "name[0]" .. "name[k-1]" (how we write a k-component field to PLY) become
-// one field again.
-void regroup_component_fields(Surface& surface) {
-    std::vector<Field> grouped;
-    for (size_t i = 0; i < surface.fields.size();) {
-        const std::string& name = surface.fields[i].name;
-        const std::string base = name.size() > 3 && name.substr(name.size() - 3) == "[0]"
-                                     ? name.substr(0, name.size() - 3)
-                                     : std::string();
-        size_t k = 0;
-        if (!base.empty())
-            while (i + k < surface.fields.size() && surface.fields[i + k].components == 1 &&
-                   surface.fields[i + k].name == base + "[" + std::to_string(k) + "]")
-                ++k;
-        if (k < 2) {
-            grouped.push_back(std::move(surface.fields[i++]));
-            continue;
-        }
-        Field field;
-        field.name = base;
-        field.components = int(k);
-        field.kind = surface.fields[i].kind == FieldKind::Label ? FieldKind::Label
-                                                                : field_kind(base, int(k), false);
-        const size_t n = surface.vertex_count();
-        field.values.resize(n * k);
-        for (size_t c = 0; c < k; ++c)
-            for (size_t v = 0; v < n; ++v)
-                field.values[v * k + c] = surface.fields[i + c].values[v];
-        grouped.push_back(std::move(field));
-        i += k;
-    }
-    surface.fields = std::move(grouped);
-}
-
 // OBJ's point ("p") and line ("l") elements, which OpenMesh's reader skips: a note says how many.
 std::string obj_points_and_lines(const std::string& path) {
     std::ifstream in(path, std::ios::binary);

@@ -3,6 +3,7 @@
 
 #include "off_reader.h"
 #include "openmesh_files.h"
+#include "ply_reader.h"
 #include "stl_reader.h"
 #include "vtk_files.h"
 
@@ -107,6 +108,8 @@ Surface read_surface(const std::string& path, Notes* notes) {
         read = read_ascii_off(path, "cannot read " + path, notes);
     else if (ext == ".stl")
         read = read_binary_stl(path, "cannot read " + path, notes);
+    else if (ext == ".ply")
+        read = read_ply_with_strips_or_long_lines(path, "cannot read " + path, notes);
     if (!read) read = read_openmesh_file(path, ext, notes); // also binary .off, ASCII .stl
     Surface surface = std::move(*read);
     if (surface.triangle_count() == 0)

@@ -4,8 +4,10 @@
 
 #include "ddsimp/io/surface_io.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -250,6 +252,153 @@ TEST(PlyPolygons, AnAsciiQuadGridIsTriangulatedAndItsIntegerIdsAreLabels) {
     EXPECT_EQ(s.fields[0].kind, FieldKind::Label);
     EXPECT_EQ(s.fields[1].kind, FieldKind::Continuous);
     EXPECT_EQ(default_gradient_fields(s), std::vector<std::string>{"temperature"});
+}
+
+namespace {
+
+// PLY triangle strips ("tristrips", as Stanford's scans store them): the grid's rows as strips
+// in one list, separated by -1, in each PLY format; with an integer id, a temperature and
+// normals per point.
+enum class PlyFormat { Ascii, BinaryLittleEndian, BinaryBigEndian };
+
+std::string ply_format_name(PlyFormat f) {
+    switch (f) {
+    case PlyFormat::Ascii:
+        return "ascii";
+    case PlyFormat::BinaryLittleEndian:
+        return "binary_little_endian";
+    case PlyFormat::BinaryBigEndian:
+        return "binary_big_endian";
+    }
+    return "";
+}
+
+class PlyValues {
+public:
+    explicit PlyValues(PlyFormat format) : format_(format) { text_.precision(9); }
+    template <class T> PlyValues& operator<<(T value) {
+        if (format_ == PlyFormat::Ascii) {
+            text_ << (first_ ? "" : " ") << +value;
+            first_ = false;
+            return *this;
+        }
+        char bytes[sizeof(T)];
+        std::memcpy(bytes, &value, sizeof(T));
+        if (format_ == PlyFormat::BinaryBigEndian) std::reverse(bytes, bytes + sizeof(T));
+        text_.write(bytes, sizeof(T));
+        return *this;
+    }
+    void end_item() {
+        if (format_ == PlyFormat::Ascii) text_ << "\n";
+        first_ = true;
+    }
+    std::string str() const { return text_.str(); }
+
+private:
+    PlyFormat format_;
+    std::ostringstream text_;
+    bool first_ = true;
+};
+
+std::string ply_strips(const QuadGrid& g, PlyFormat format) {
+    const size_t w = size_t(g.n + 1);
+    const size_t indices = size_t(g.n) * 2 * w + size_t(g.n - 1); // and the -1 between strips
+    std::string header = "ply\nformat " + ply_format_name(format) +
+                         " 1.0\ncomment rows of the grid as strips\nelement vertex " +
+                         std::to_string(g.points()) +
+                         "\nproperty float x\nproperty float y\nproperty float z\n"
+                         "property int PointId\nproperty float temperature\n"
+                         "property float nx\nproperty float ny\nproperty float nz\n"
+                         "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+    PlyValues values(format);
+    for (size_t v = 0; v < g.points(); ++v) {
+        const auto p = g.point(v), n = g.normal(v);
+        values << float(p[0]) << float(p[1]) << float(p[2]) << int32_t(1000 + v)
+               << float(g.temperature(v)) << float(n[0]) << float(n[1]) << float(n[2]);
+        values.end_item();
+    }
+    values << int32_t(indices);
+    for (size_t j = 0; j < size_t(g.n); ++j) {
+        if (j > 0) values << int32_t(-1);
+        for (size_t i = 0; i < w; ++i) values << int32_t((j + 1) * w + i) << int32_t(j * w + i);
+    }
+    values.end_item();
+    return header + values.str();
+}
+
+} // namespace
+
+class PlyStripVariant : public ::testing::TestWithParam<PlyFormat> {};
+
+TEST_P(PlyStripVariant, IsReadAsTheGridWithANoteAndItsKinds) {
+    ScratchDir dir;
+    const QuadGrid grid;
+    const std::string path = dir.file("strips.ply");
+    write_text(path, ply_strips(grid, GetParam()));
+    io::Notes notes;
+    const Surface s = io::read_surface(path, &notes);
+    expect_grid(s, grid);
+    EXPECT_TRUE(contains(all(notes), "4 triangle strips split into 32 triangles")) << all(notes);
+    ASSERT_EQ(s.fields.size(), 3u);
+    EXPECT_EQ(s.fields[0].name, "PointId");
+    EXPECT_EQ(s.fields[0].kind, FieldKind::Label);
+    EXPECT_EQ(s.fields[0].values[7], 1007.0f);
+    EXPECT_EQ(s.fields[1].kind, FieldKind::Continuous);
+    EXPECT_NEAR(s.fields[1].values[7], grid.temperature(7), 1e-4);
+    EXPECT_EQ(s.fields[2].name, "Normals");
+    EXPECT_EQ(s.fields[2].kind, FieldKind::Direction);
+    EXPECT_NEAR(s.fields[2].values[3 * 7 + 2], grid.normal(7)[2], 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, PlyStripVariant,
+                         ::testing::Values(PlyFormat::Ascii, PlyFormat::BinaryLittleEndian,
+                                           PlyFormat::BinaryBigEndian),
+                         [](const auto& info) { return ply_format_name(info.param); });
+
+TEST(PlyStrips, AFileCutShortInItsStripsSaysWhereItEnds) {
+    ScratchDir dir;
+    const std::string whole = ply_strips(QuadGrid{}, PlyFormat::BinaryLittleEndian);
+    const std::string path = dir.file("cut.ply");
+    write_text(path, whole.substr(0, whole.size() - 10));
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_TRUE(contains(message, "tristrips 0 ends in its property 'vertex_indices'")) << message;
+}
+
+TEST(PlyStrips, AStripThatRefersToAMissingVertexIsRefused) {
+    ScratchDir dir;
+    std::string text = ply_strips(QuadGrid{}, PlyFormat::Ascii);
+    text.replace(text.rfind(" 24"), 3, " 99"); // the last strip's last index
+    const std::string path = dir.file("bad.ply");
+    write_text(path, text);
+    const std::string message = io_error_of([&] { io::read_surface(path); });
+    EXPECT_TRUE(contains(message, "tristrips 0 refers to vertex 99; the file has 25")) << message;
+}
+
+// Face lines with a colour the header does not declare: VTK reads each element from its own line
+// and ignores the rest of it; so does ddsimp, with a note.
+TEST(PlyLongLines, AsciiFaceLinesWithUndeclaredValuesAreReadWithANote) {
+    ScratchDir dir;
+    const QuadGrid grid;
+    std::ostringstream out;
+    out.precision(9);
+    out << "ply\nformat ascii 1.0\nelement vertex " << grid.points()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << grid.quads()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (size_t v = 0; v < grid.points(); ++v)
+        out << grid.point(v)[0] << " " << grid.point(v)[1] << " " << grid.point(v)[2] << "\n";
+    for (size_t q = 0; q < grid.quads(); ++q) {
+        const auto c = grid.quad(q);
+        out << "4 " << c[0] << " " << c[1] << " " << c[2] << " " << c[3] << " 255 128 0\n";
+    }
+    const std::string path = dir.file("long.ply");
+    write_text(path, out.str());
+    io::Notes notes;
+    const Surface s = io::read_surface(path, &notes);
+    expect_grid(s, grid);
+    EXPECT_TRUE(contains(all(notes), "16 lines carry more values than the header declares"))
+        << all(notes);
+    EXPECT_TRUE(contains(all(notes), "16 quads")) << all(notes);
+    EXPECT_TRUE(s.fields.empty());
 }
 
 // ------------------------------------------------------------------------------------------
