@@ -53,11 +53,8 @@ std::future<UploadResult> Client::async_upload(const Surface& surface, const std
     begin.set_name(name);
     begin.set_vertex_count(blob.layout.vertex_count);
     begin.set_triangle_count(blob.layout.triangle_count);
-    for (const protocol::FieldSpec& f : blob.layout.fields) {
-        v1::FieldInfo* info = begin.add_fields();
-        info->set_name(f.name);
-        info->set_components(f.components);
-    }
+    for (const protocol::FieldSpec& f : blob.layout.fields)
+        protocol::set_field_info(*begin.add_fields(), f);
     begin.set_total_bytes(blob.bytes.size());
     begin.set_session(session);
 

@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <bit>
 #include <memory>
 #include <stdexcept>
@@ -49,8 +50,12 @@ std::string sha256_hex(std::string_view bytes) {
 }
 
 std::string surface_hash(const Surface& s) {
+    // A surface whose fields are all continuous hashes as before kinds existed (the ids of
+    // stored surfaces stay); any other kind makes it a different surface, with every kind hashed.
+    const bool kinds = std::any_of(s.fields.begin(), s.fields.end(),
+                                   [](const Field& f) { return f.kind != FieldKind::Continuous; });
     Sha256 h;
-    h.add("ddsimp-surface-1", 16);
+    h.add(kinds ? "ddsimp-surface-2" : "ddsimp-surface-1", 16);
     h.add_u64(s.vertex_count());
     h.add_u64(s.triangle_count());
     h.add(s.positions.data(), 4 * s.positions.size());
@@ -61,6 +66,7 @@ std::string surface_hash(const Surface& s) {
         h.add(f.name.data(), f.name.size());
         h.add_u64(uint64_t(f.components));
         h.add(f.values.data(), 4 * f.values.size());
+        if (kinds) h.add_u64(uint64_t(f.kind));
     }
     return h.hex();
 }

@@ -131,7 +131,7 @@ Surface decode_vertices(const std::vector<std::string_view>& sections, size_t fi
                        "positions");
     for (size_t f = 0; f < layout.fields.size(); ++f) {
         const FieldSpec& spec = layout.fields[f];
-        Field field{spec.name, int(spec.components), {}};
+        Field field{spec.name, int(spec.components), {}, spec.kind};
         field.values.resize(layout.vertex_count * spec.components);
         read_vertex_stream(sections[field_section + f], field.values.data(), layout.vertex_count,
                            4 * spec.components, meshopt, "field \"" + spec.name + "\"");
@@ -148,8 +148,23 @@ uint64_t BlobLayout::total_bytes() const {
 
 std::vector<FieldSpec> field_specs(const Surface& surface) {
     std::vector<FieldSpec> out;
-    for (const Field& f : surface.fields) out.push_back({f.name, uint32_t(f.components)});
+    for (const Field& f : surface.fields) out.push_back({f.name, uint32_t(f.components), f.kind});
     return out;
+}
+
+FieldSpec field_spec_of(const v1::FieldInfo& info) {
+    FieldKind kind = FieldKind::Continuous;
+    if (info.kind() == v1::FIELD_KIND_LABEL) kind = FieldKind::Label;
+    if (info.kind() == v1::FIELD_KIND_DIRECTION) kind = FieldKind::Direction;
+    return {info.name(), info.components(), kind};
+}
+
+void set_field_info(v1::FieldInfo& info, const FieldSpec& spec) {
+    info.set_name(spec.name);
+    info.set_components(spec.components);
+    info.set_kind(spec.kind == FieldKind::Label       ? v1::FIELD_KIND_LABEL
+                  : spec.kind == FieldKind::Direction ? v1::FIELD_KIND_DIRECTION
+                                                      : v1::FIELD_KIND_CONTINUOUS);
 }
 
 std::vector<uint64_t> raw_mesh_sections(uint64_t vertices, uint64_t triangles,
@@ -279,8 +294,7 @@ BlobLayout layout_of(const v1::MeshBegin& begin) {
     layout.encoding = begin.encoding() == v1::ENCODING_UNSPECIFIED ? v1::RAW : begin.encoding();
     layout.vertex_count = begin.vertex_count();
     layout.triangle_count = begin.triangle_count();
-    for (const v1::FieldInfo& f : begin.fields())
-        layout.fields.push_back({f.name(), f.components()});
+    for (const v1::FieldInfo& f : begin.fields()) layout.fields.push_back(field_spec_of(f));
     layout.section_bytes.assign(begin.section_bytes().begin(), begin.section_bytes().end());
     return layout;
 }
@@ -290,11 +304,7 @@ void set_layout(v1::MeshBegin& begin, const BlobLayout& layout) {
     begin.set_vertex_count(layout.vertex_count);
     begin.set_triangle_count(layout.triangle_count);
     begin.clear_fields();
-    for (const FieldSpec& f : layout.fields) {
-        v1::FieldInfo* info = begin.add_fields();
-        info->set_name(f.name);
-        info->set_components(f.components);
-    }
+    for (const FieldSpec& f : layout.fields) set_field_info(*begin.add_fields(), f);
     begin.clear_section_bytes();
     for (uint64_t s : layout.section_bytes) begin.add_section_bytes(s);
     begin.set_total_bytes(layout.total_bytes());

@@ -217,7 +217,7 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
                           "field \"" + f.name() + "\" has " + std::to_string(f.components()) +
                               " components (1 to " + std::to_string(kMaxFieldComponents) +
                               " allowed)");
-        fields.push_back({f.name(), f.components()});
+        fields.push_back(protocol::field_spec_of(f));
     }
     uint64_t expected = 0;
     try {

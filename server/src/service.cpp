@@ -23,8 +23,7 @@ namespace {
 void set_fields(google::protobuf::RepeatedPtrField<v1::FieldInfo>* out, const StoredSurface& s) {
     for (const auto& f : s.fields) {
         v1::FieldInfo* info = out->Add();
-        info->set_name(f.name);
-        info->set_components(uint32_t(f.components));
+        protocol::set_field_info(*info, {f.name, uint32_t(f.components), f.kind});
         info->set_min(f.min);
         info->set_max(f.max);
     }
@@ -174,7 +173,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             layout.vertex_count = begin.vertex_count();
             layout.triangle_count = begin.triangle_count();
             for (const v1::FieldInfo& f : begin.fields())
-                layout.fields.push_back({f.name(), f.components()});
+                layout.fields.push_back(protocol::field_spec_of(f));
             layout.section_bytes = protocol::raw_mesh_sections(
                 layout.vertex_count, layout.triangle_count, layout.fields);
             Surface surface = protocol::decode_mesh(bytes, layout);

@@ -38,11 +38,8 @@ std::string encode_surface_file(const std::string& name, const Surface& surface)
     header.set_name(name);
     header.set_vertex_count(surface.vertex_count());
     header.set_triangle_count(surface.triangle_count());
-    for (const Field& f : surface.fields) {
-        v1::FieldInfo* info = header.add_fields();
-        info->set_name(f.name);
-        info->set_components(uint32_t(f.components));
-    }
+    for (const protocol::FieldSpec& f : protocol::field_specs(surface))
+        protocol::set_field_info(*header.add_fields(), f);
     const protocol::EncodedBlob blob = protocol::encode_mesh(surface, v1::RAW);
     header.set_total_bytes(blob.bytes.size());
     const std::string h = header.SerializeAsString();
@@ -74,7 +71,7 @@ SurfaceFile read_surface_file(const std::filesystem::path& path) {
     layout.vertex_count = header.vertex_count();
     layout.triangle_count = header.triangle_count();
     for (const v1::FieldInfo& f : header.fields())
-        layout.fields.push_back({f.name(), f.components()});
+        layout.fields.push_back(protocol::field_spec_of(f));
     try {
         layout.section_bytes =
             protocol::raw_mesh_sections(layout.vertex_count, layout.triangle_count, layout.fields);

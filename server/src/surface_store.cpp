@@ -61,7 +61,7 @@ std::string session_scope(const std::string& name, const std::string& key) {
 StoredSurface describe_surface(const std::string& id, const std::string& name, const Surface& s) {
     StoredSurface info{id, name, s.vertex_count(), s.triangle_count(), {}};
     for (const Field& f : s.fields) {
-        StoredSurface::FieldRange r{f.name, f.components, 0, 0};
+        StoredSurface::FieldRange r{f.name, f.components, f.kind, 0, 0};
         if (!f.values.empty()) {
             const auto [lo, hi] = std::minmax_element(f.values.begin(), f.values.end());
             r.min = *lo, r.max = *hi;

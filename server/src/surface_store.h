@@ -36,6 +36,7 @@ struct StoredSurface {
     struct FieldRange {
         std::string name;
         int components = 1;
+        FieldKind kind = FieldKind::Continuous;
         float min = 0, max = 0;
     };
     std::vector<FieldRange> fields;

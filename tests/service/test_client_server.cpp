@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace ddsimp {
@@ -124,6 +125,32 @@ TEST_P(ClientRoundTrip, EveryLevelEqualsTheOfflineResultCoarsestFirst) {
         }
         EXPECT_EQ(level.refinement, mode.progressive && i != 1) << i;
     }
+}
+
+// A label field (ids) keeps its kind through the upload, the server's simplification and the
+// level sent back: every value of a level is one of the input's ids, never a mix of two.
+TEST_F(ClientServer, ALabelFieldIsCarriedNotInterpolated) {
+    Surface input = test_surface();
+    Field ids{"PointId", 1, {}, FieldKind::Label};
+    for (size_t v = 0; v < input.vertex_count(); ++v) ids.values.push_back(float(10 * v + 1));
+    input.fields.push_back(ids);
+    Client client;
+    client.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = client.upload(input, "ids").surface;
+    request.alpha = 0.25;
+    request.keep = {0.1};
+    request.encoding = Encoding::Raw;
+    PendingRequest pending = client.request(request, [](const Level&) {});
+    pending.done.get();
+    const Level level = pending.levels[0].get();
+    ASSERT_EQ(level.mesh.fields.size(), 3u);
+    const Field& got = level.mesh.fields[2];
+    EXPECT_EQ(got.kind, FieldKind::Label);
+    const std::set<float> input_ids(ids.values.begin(), ids.values.end());
+    for (size_t v = 0; v < got.values.size(); ++v)
+        ASSERT_TRUE(input_ids.count(got.values[v])) << "vertex " << v << ": " << got.values[v];
+    EXPECT_TRUE(test::same_bytes(level.mesh, offline(input, request.alpha, 0.1)));
 }
 
 TEST_F(ClientServer, OneClientServesRequestsFromSeveralThreads) {

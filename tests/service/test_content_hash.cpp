@@ -26,8 +26,13 @@ TEST(ContentHash, SurfaceIdFollowsContent) {
     renamed.fields[0].name = "Pressure";
     Surface turned = s;
     std::swap(turned.triangles[0], turned.triangles[1]);
-    for (const Surface* other : {&moved, &data, &renamed, &turned})
+    Surface labelled = s;
+    labelled.fields[0].kind = FieldKind::Label;
+    Surface directed = s;
+    directed.fields[0].kind = FieldKind::Direction;
+    for (const Surface* other : {&moved, &data, &renamed, &turned, &labelled, &directed})
         EXPECT_NE(surface_hash(s), surface_hash(*other));
+    EXPECT_NE(surface_hash(labelled), surface_hash(directed));
 }
 
 } // namespace

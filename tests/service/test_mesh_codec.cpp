@@ -137,5 +137,29 @@ TEST(MeshCodec, LayoutSurvivesAMeshBeginMessage) {
     EXPECT_EQ(back.fields[1].components, 3u);
 }
 
+TEST(MeshCodec, FieldKindsSurviveAMeshBeginMessageAndTheBlob) {
+    Surface s = test::with_test_fields(test::icosphere(1));
+    s.fields[0].kind = FieldKind::Label;
+    s.fields[1].kind = FieldKind::Direction;
+    const EncodedBlob blob = encode_mesh(s, v1::RAW);
+    v1::MeshBegin begin;
+    set_layout(begin, blob.layout);
+    EXPECT_EQ(begin.fields(0).kind(), v1::FIELD_KIND_LABEL);
+    EXPECT_EQ(begin.fields(1).kind(), v1::FIELD_KIND_DIRECTION);
+    const Surface back = decode_mesh(blob.bytes, layout_of(begin));
+    ASSERT_EQ(back.fields.size(), 2u);
+    EXPECT_EQ(back.fields[0].kind, FieldKind::Label);
+    EXPECT_EQ(back.fields[1].kind, FieldKind::Direction);
+
+    // An older peer sends no kind, a newer one may send a kind this version does not know:
+    // both are continuous.
+    v1::FieldInfo older, newer;
+    older.set_name("p");
+    newer.set_name("q");
+    newer.set_kind(static_cast<v1::FieldKind>(7));
+    EXPECT_EQ(field_spec_of(older).kind, FieldKind::Continuous);
+    EXPECT_EQ(field_spec_of(newer).kind, FieldKind::Continuous);
+}
+
 } // namespace
 } // namespace ddsimp::protocol

@@ -32,7 +32,13 @@ inline constexpr uint32_t kDeadSlot = 0xffffffffu;
 struct FieldSpec {
     std::string name;
     uint32_t components = 1;
+    FieldKind kind = FieldKind::Continuous;
 };
+
+// A field's name, components and kind from and to the wire (a kind this version does not know
+// is read as Continuous).
+FieldSpec field_spec_of(const v1::FieldInfo& info);
+void set_field_info(v1::FieldInfo& info, const FieldSpec& spec);
 
 // What a Begin message says about the blob that follows.
 struct BlobLayout {
