@@ -1,7 +1,9 @@
 """ddsimp: data-dependent surface simplification (Frank & Lang) for Python.
 
 A surface is numpy arrays: ``points`` (N, 3), ``triangles`` (M, 3) and ``fields``, a dict of
-per-vertex arrays, (N,) for a scalar or (N, k) for k components. Results come back as float32 /
+per-vertex arrays, (N,) for a scalar or (N, k) for k components, with ``kinds`` naming a field's
+kind where it is not "continuous": "label" (ids: never mixed, not driving the data term by
+default) or "direction" (normals: kept unit length). ``read`` gives each field's kind. Results come back as float32 /
 uint32 arrays that own the library's memory (no copy); inputs are copied once into the library.
 
     import ddsimp
@@ -43,20 +45,24 @@ for _type in (ClientError, InputError, IoError, Level, Mesh, Result, SessionEven
 _D = _ddsimp.option_defaults()
 
 
-def _unpack(points, triangles, fields):
-    """(points, triangles, fields), also from one Mesh-like object passed as `points`."""
+def _unpack(points, triangles, fields, kinds=None):
+    """(points, triangles, fields, kinds), also from one Mesh-like object passed as `points`
+    (given kinds win over the mesh's)."""
     if triangles is None and hasattr(points, "points") and hasattr(points, "triangles"):
-        return points.points, points.triangles, getattr(points, "fields", None)
+        if kinds is None:
+            kinds = getattr(points, "kinds", None)
+        return points.points, points.triangles, getattr(points, "fields", None), kinds
     if triangles is None:
         raise InputError("give points and triangles, or one mesh with .points and .triangles")
-    return points, triangles, fields
+    return points, triangles, fields, kinds
 
 
 def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D["keep"],
              target_triangles=None, max_weight=_D["max_weight"], strategy=_D["strategy"],
              placement=_D["placement"], terms=_D["terms"], gradient_fields=None,
              feature_angle=_D["feature_angle"], line_tolerance=_D["line_tolerance"],
-             max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None):
+             max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None,
+             kinds=None):
     """Reduces a surface; returns a Result (points, triangles, fields, target_reached, stop...).
 
     points (N, 3), triangles (M, 3), fields {name: (N,) or (N, k)}; or one mesh as `points`.
@@ -66,19 +72,20 @@ def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D[
     strategy: "edge" (collapse) or "vertex" (removal; data stays exact).
     placement: "least-error", "midpoint" or "volume" (edge collapse's new point).
     terms: "quadrics" (error against the input) or "paper" (angle deficit and data gradient).
-    gradient_fields: names of the fields that drive the data term (None: all).
+    gradient_fields: names of the fields that drive the data term (None: the continuous ones).
     feature_angle: dihedral angle in degrees above which an edge is a feature (180: none).
     line_tolerance, max_normal_turn: degrees (see docs/python.md).
     threads: threads for the engine, 0 for every core (same output at any count).
     progress: callable(fraction done); returning False cancels (stop == "cancelled").
+    kinds: {name: "label" or "direction"} for fields that are not continuous (a mesh's own).
     """
-    points, triangles, fields = _unpack(points, triangles, fields)
+    points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
     return _ddsimp.simplify(
         points, triangles, fields, alpha=alpha, keep=keep, target_triangles=target_triangles,
         max_weight=max_weight, strategy=strategy, placement=placement, terms=terms,
         gradient_fields=gradient_fields, feature_angle=feature_angle,
         line_tolerance=line_tolerance, max_normal_turn=max_normal_turn, threads=threads,
-        progress=progress)
+        progress=progress, kinds=kinds)
 
 
 class ProgressiveRecord(_ddsimp.ProgressiveRecord):
@@ -93,14 +100,15 @@ class ProgressiveRecord(_ddsimp.ProgressiveRecord):
                  target_triangles=None, max_weight=_D["max_weight"], strategy=_D["strategy"],
                  placement=_D["placement"], terms=_D["terms"], gradient_fields=None,
                  feature_angle=_D["feature_angle"], line_tolerance=_D["line_tolerance"],
-                 max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None):
-        points, triangles, fields = _unpack(points, triangles, fields)
+                 max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None,
+                 kinds=None):
+        points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
         super().__init__(
             points, triangles, fields, alpha=alpha, keep=keep, target_triangles=target_triangles,
             max_weight=max_weight, strategy=strategy, placement=placement, terms=terms,
             gradient_fields=gradient_fields, feature_angle=feature_angle,
             line_tolerance=line_tolerance, max_normal_turn=max_normal_turn, threads=threads,
-            progress=progress)
+            progress=progress, kinds=kinds)
 
 
 def read(path):
@@ -108,13 +116,14 @@ def read(path):
     return _ddsimp.read(str(path))
 
 
-def write(path, points, triangles=None, fields=None):
+def write(path, points, triangles=None, fields=None, *, kinds=None):
     """Writes a surface (.vtk .vtp .ply .obj .off .glb), from arrays or one mesh as `points`.
 
-    Fields are kept where the format holds them (.vtk, .vtp, .ply, .glb).
+    Fields are kept where the format holds them (.vtk, .vtp, .ply, .glb); .vtk and .vtp write
+    labels as integers and the direction "Normals" as the normals.
     """
-    points, triangles, fields = _unpack(points, triangles, fields)
-    _ddsimp.write(str(path), points, triangles, fields)
+    points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
+    _ddsimp.write(str(path), points, triangles, fields, kinds)
 
 
 class Client(_ddsimp.Client):
@@ -131,14 +140,14 @@ class Client(_ddsimp.Client):
     def __exit__(self, *exc):
         self.close()
 
-    def upload(self, points, triangles=None, fields=None, *, name="", session=""):
+    def upload(self, points, triangles=None, fields=None, *, name="", session="", kinds=None):
         """Stores a surface on the server; returns an UploadResult (.surface is its id).
 
         With `session` (joined first, see join) only that session's members see it and the
         session's view switches to it.
         """
-        points, triangles, fields = _unpack(points, triangles, fields)
-        return super().upload(points, triangles, fields, name=name, session=session)
+        points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
+        return super().upload(points, triangles, fields, kinds, name=name, session=session)
 
     def simplify(self, surface, keep=(0.5, 0.25, 0.1), *, alpha=0.5, strategy="edge",
                  placement=_D["placement"], gradient_fields=None, feature_angle=180.0):

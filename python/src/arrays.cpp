@@ -1,6 +1,7 @@
 // numpy arrays <-> ddsimp::Surface (see arrays.h).
 #include "arrays.h"
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -63,7 +64,52 @@ std::vector<uint32_t> triangle_indices(py::handle triangles) {
 
 } // namespace
 
-Surface surface_from_arrays(py::handle points, py::handle triangles, py::handle fields) {
+namespace {
+
+const char* kind_name(FieldKind kind) {
+    switch (kind) {
+    case FieldKind::Label:
+        return "label";
+    case FieldKind::Direction:
+        return "direction";
+    case FieldKind::Continuous:
+        break;
+    }
+    return "continuous";
+}
+
+void set_kinds(Surface& s, py::handle kinds) {
+    if (kinds.is_none()) return;
+    if (!py::isinstance<py::dict>(kinds) && !py::hasattr(kinds, "items"))
+        throw InputError("kinds must be a mapping of field name to kind, e.g. {\"id\": \"label\"}");
+    for (auto item : kinds.attr("items")()) {
+        auto pair = item.cast<py::tuple>();
+        const std::string name = py::str(pair[0]).cast<std::string>();
+        const std::string kind = py::str(pair[1]).cast<std::string>();
+        auto field = std::find_if(s.fields.begin(), s.fields.end(),
+                                  [&](const Field& f) { return f.name == name; });
+        if (field == s.fields.end())
+            throw InputError("kinds names the field \"" + name + "\", which is not given");
+        if (kind == "continuous")
+            field->kind = FieldKind::Continuous;
+        else if (kind == "label")
+            field->kind = FieldKind::Label;
+        else if (kind == "direction")
+            field->kind = FieldKind::Direction;
+        else
+            throw InputError("field \"" + name + "\": kind \"" + kind +
+                             "\" is not one of continuous, label, direction");
+    }
+}
+
+} // namespace
+
+py::object take_kinds(py::kwargs& kwargs) {
+    return kwargs.attr("pop")("kinds", py::none());
+}
+
+Surface surface_from_arrays(py::handle points, py::handle triangles, py::handle fields,
+                            py::handle kinds) {
     Surface s;
     {
         auto p = as_float32(points, "points");
@@ -72,7 +118,10 @@ Surface surface_from_arrays(py::handle points, py::handle triangles, py::handle 
         s.positions.assign(p.data(), p.data() + p.size());
     }
     s.triangles = triangle_indices(triangles);
-    if (fields.is_none()) return s;
+    if (fields.is_none()) {
+        set_kinds(s, kinds);
+        return s;
+    }
     if (!py::isinstance<py::dict>(fields) && !py::hasattr(fields, "items"))
         throw InputError("fields must be a mapping of name to array, e.g. {\"T\": t}");
     for (auto item : fields.attr("items")()) {
@@ -93,6 +142,7 @@ Surface surface_from_arrays(py::handle points, py::handle triangles, py::handle 
         f.values.assign(v.data(), v.data() + v.size());
         s.fields.push_back(std::move(f));
     }
+    set_kinds(s, kinds);
     return s;
 }
 
@@ -109,6 +159,7 @@ Mesh mesh_from_surface(Surface&& surface) {
     for (Field& f : surface.fields) {
         std::vector<py::ssize_t> shape{vertices};
         if (f.components != 1) shape.push_back(f.components);
+        m.kinds[py::str(f.name)] = kind_name(f.kind);
         m.fields[py::str(f.name)] = take_vector(std::move(f.values), std::move(shape));
     }
     return m;

@@ -129,9 +129,9 @@ std::unique_ptr<Client> connect(const std::string& server, const std::string& to
 }
 
 UploadResult upload(Client& client, py::handle points, py::handle triangles, py::handle fields,
-                    const std::string& name, const std::string& session) {
+                    py::handle kinds, const std::string& name, const std::string& session) {
     auto stored =
-        client.async_upload(surface_from_arrays(points, triangles, fields), name, session);
+        client.async_upload(surface_from_arrays(points, triangles, fields, kinds), name, session);
     wait(stored);
     return stored.get();
 }
@@ -252,7 +252,8 @@ void bind_client(py::module_& m) {
         .def_property_readonly("client_id", &Client::client_id)
         .def_property_readonly("capabilities", &Client::capabilities)
         .def("upload", &upload, py::arg("points"), py::arg("triangles"),
-             py::arg("fields") = py::none(), py::arg("name") = "", py::arg("session") = "")
+             py::arg("fields") = py::none(), py::arg("kinds") = py::none(), py::arg("name") = "",
+             py::arg("session") = "")
         .def("list",
              [](Client& c) {
                  auto f = c.async_list_surfaces();

@@ -19,12 +19,14 @@ void bind_io(py::module_& m) {
         py::arg("path"));
     m.def(
         "write",
-        [](const std::string& path, py::handle points, py::handle triangles, py::handle fields) {
-            const Surface s = surface_from_arrays(points, triangles, fields);
+        [](const std::string& path, py::handle points, py::handle triangles, py::handle fields,
+           py::handle kinds) {
+            const Surface s = surface_from_arrays(points, triangles, fields, kinds);
             py::gil_scoped_release released;
             io::write_surface(s, path);
         },
-        py::arg("path"), py::arg("points"), py::arg("triangles"), py::arg("fields") = py::none());
+        py::arg("path"), py::arg("points"), py::arg("triangles"), py::arg("fields") = py::none(),
+        py::arg("kinds") = py::none());
 }
 
 } // namespace ddsimp::python

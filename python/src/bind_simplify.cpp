@@ -26,8 +26,8 @@ py::dict repairs_dict(const RepairReport& r) {
 }
 
 SimplifyResult simplify_arrays(py::handle points, py::handle triangles, py::handle fields,
-                               const py::kwargs& kwargs) {
-    const Surface input = surface_from_arrays(points, triangles, fields);
+                               py::kwargs kwargs) {
+    const Surface input = surface_from_arrays(points, triangles, fields, take_kinds(kwargs));
     Options options = options_from_kwargs(kwargs);
     Progress progress(kwargs);
     progress.install(options);
@@ -54,7 +54,7 @@ class Record {
 public:
     Record(py::handle points, py::handle triangles, py::handle fields, py::kwargs kwargs) {
         if (!kwargs.contains("keep")) kwargs["keep"] = 0.0; // record every operation
-        const Surface input = surface_from_arrays(points, triangles, fields);
+        const Surface input = surface_from_arrays(points, triangles, fields, take_kinds(kwargs));
         Options options = options_from_kwargs(kwargs);
         Progress progress(kwargs);
         progress.install(options);
@@ -121,6 +121,9 @@ void bind_simplify(py::module_& m) {
         .def_readonly("triangles", &Mesh::triangles, "(M, 3) uint32 vertex indices")
         .def_readonly("fields", &Mesh::fields,
                       "dict: name -> (N,) or (N, k) float32 per-vertex values")
+        .def_readonly("kinds", &Mesh::kinds,
+                      "dict: name -> \"continuous\", \"label\" (ids: never mixed, not driving the "
+                      "data term by default) or \"direction\" (normals: kept unit length)")
         .def("__repr__", &mesh_repr);
 
     py::class_<SimplifyResult, Mesh>(m, "Result", "The reduced surface and how the run went.")

@@ -75,3 +75,19 @@ def test_file_errors_name_the_file_and_the_problem(tmp_path):
         ddsimp.read(bad)
     with pytest.raises(ddsimp.IoError, match="stl"):
         ddsimp.write(tmp_path / "out.stl", np.zeros((3, 3)), [[0, 1, 2]])
+
+
+def test_kinds_are_written_and_read_back(data, tmp_path):
+    mesh = ddsimp.read(data / "surfaces" / "SurfaceVectors.vtk")
+    assert set(mesh.kinds) == set(mesh.fields)
+    fields = dict(mesh.fields)
+    fields["PointId"] = np.arange(len(mesh.points), dtype=np.float32)
+    path = tmp_path / "ids.vtp"
+    ddsimp.write(path, mesh.points, mesh.triangles, fields, kinds={"PointId": "label"})
+    back = ddsimp.read(path)
+    assert back.kinds["PointId"] == "label"
+    np.testing.assert_array_equal(back.fields["PointId"], fields["PointId"])
+    # simplify(mesh) takes the mesh's kinds: the ids stay ids.
+    r = ddsimp.simplify(back, keep=0.2)
+    assert r.kinds["PointId"] == "label"
+    assert set(r.fields["PointId"].tolist()) <= set(fields["PointId"].tolist())

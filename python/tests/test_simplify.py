@@ -152,3 +152,27 @@ def test_other_python_threads_run_while_it_computes(earth):
         sys.setswitchinterval(interval)
     assert len(state["gaps"]) > 10
     assert any(gap > 0 for gap in state["gaps"])
+
+
+def test_a_label_field_is_carried_never_mixed(vectors):
+    n = len(vectors.points)
+    fields = dict(vectors.fields)
+    fields["PointId"] = np.arange(n, dtype=np.float32) * 10 + 1
+    r = ddsimp.simplify(vectors.points, vectors.triangles, fields, keep=0.1,
+                        kinds={"PointId": "label"})
+    assert r.kinds["PointId"] == "label"
+    assert r.kinds[next(iter(vectors.fields))] == "continuous"
+    assert set(r.fields["PointId"].tolist()) <= set(fields["PointId"].tolist())
+    # The same run from a mesh takes the mesh's kinds.
+    record = ddsimp.ProgressiveRecord(vectors.points, vectors.triangles, fields,
+                                      kinds={"PointId": "label"})
+    level = record.level(0.1)
+    assert level.kinds["PointId"] == "label"
+    np.testing.assert_array_equal(level.fields["PointId"], r.fields["PointId"])
+
+
+def test_an_unknown_kind_or_field_in_kinds_is_an_input_error(vectors):
+    with pytest.raises(ddsimp.InputError, match="is not one of continuous, label, direction"):
+        ddsimp.simplify(vectors, kinds={next(iter(vectors.fields)): "integer"})
+    with pytest.raises(ddsimp.InputError, match='names the field "nope"'):
+        ddsimp.simplify(vectors, kinds={"nope": "label"})
