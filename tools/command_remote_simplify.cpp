@@ -69,7 +69,7 @@ Surface without_unused_vertices(const Surface& s) {
     std::vector<uint32_t> map(s.vertex_count(), UINT32_MAX);
     for (uint32_t v : s.triangles) map[v] = 0;
     Surface out;
-    for (const Field& f : s.fields) out.fields.push_back({f.name, f.components, {}});
+    for (const Field& f : s.fields) out.fields.push_back({f.name, f.components, {}, f.kind});
     uint32_t next = 0;
     for (size_t v = 0; v < map.size(); ++v) {
         if (map[v] == UINT32_MAX) continue;

@@ -26,7 +26,7 @@ void copy_vertex(const Surface& from, size_t v, Surface& to) {
 
 Surface empty_like(const Surface& s) {
     Surface out;
-    for (const Field& f : s.fields) out.fields.push_back({f.name, f.components, {}});
+    for (const Field& f : s.fields) out.fields.push_back({f.name, f.components, {}, f.kind});
     return out;
 }
 

@@ -25,7 +25,7 @@ Surface clustered_preview(const Surface& surface, size_t target) {
     }
     for (const Field& f : surface.fields) {
         const size_t nc = size_t(f.components);
-        Field g{f.name, f.components, std::vector<float>(out.vertex_count() * nc)};
+        Field g{f.name, f.components, std::vector<float>(out.vertex_count() * nc), f.kind};
         for (size_t v = 0; v < map.size(); ++v)
             if (map[v] != UINT32_MAX)
                 std::copy_n(&f.values[v * nc], nc, &g.values[size_t(map[v]) * nc]);

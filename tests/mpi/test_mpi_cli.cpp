@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <sstream>
 #include <unistd.h>
 
@@ -190,6 +191,27 @@ TEST_P(FourRanks, DataErrorWithinAQuarterOfOneProcess) {
         EXPECT_LE(b, 1.25 * a) << one.fields[i].name << ": 1 process " << a << ", 4 ranks " << b;
         RecordProperty(one.fields[i].name + "_rms_ratio", std::to_string(b / a));
     }
+}
+
+// A label field (ids) crosses the ranks as a label: every value of the stitched result is one of
+// the input's ids, never a mix of two, and it is written back as integers (read as a label).
+TEST(FourRanksKinds, ALabelFieldIsCarriedNotInterpolated) {
+    Surface s = carotid().repaired;
+    Field ids{"PointId", 1, {}, FieldKind::Label};
+    for (size_t v = 0; v < s.vertex_count(); ++v) ids.values.push_back(float(10 * v + 1));
+    s.fields.push_back(ids);
+    const std::string in = (scratch() / "carotid-ids.vtp").string();
+    const std::string out = (scratch() / "carotid-ids-out.vtp").string();
+    io::write_surface(s, in);
+    const MpiRun r = run_mpi(4, "simplify " + in + " -o " + out + " --keep 0.2");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const Surface reduced = io::read_surface(out);
+    const Field* got = reduced.find_field("PointId");
+    ASSERT_NE(got, nullptr);
+    EXPECT_EQ(got->kind, FieldKind::Label);
+    const std::set<float> input_ids(ids.values.begin(), ids.values.end());
+    for (size_t v = 0; v < got->values.size(); ++v)
+        ASSERT_TRUE(input_ids.count(got->values[v])) << "vertex " << v << ": " << got->values[v];
 }
 
 TEST(OneRank, SameBytesAsTheLibrary) {

@@ -43,8 +43,9 @@ void send_surface(const Surface& s, int to) {
     send_bytes(&fields, sizeof fields, to);
     for (const Field& f : s.fields) {
         send_string(f.name, to);
-        const int32_t components = f.components;
+        const int32_t components = f.components, kind = int32_t(f.kind);
         send_bytes(&components, sizeof components, to);
+        send_bytes(&kind, sizeof kind, to);
         send_vector(f.values, to);
     }
 }
@@ -58,9 +59,11 @@ Surface recv_surface(int from) {
     for (uint64_t i = 0; i < fields; ++i) {
         Field f;
         f.name = recv_string(from);
-        int32_t components = 0;
+        int32_t components = 0, kind = 0;
         recv_bytes(&components, sizeof components, from);
+        recv_bytes(&kind, sizeof kind, from);
         f.components = components;
+        f.kind = FieldKind(kind);
         f.values = recv_vector<float>(from);
         s.fields.push_back(std::move(f));
     }

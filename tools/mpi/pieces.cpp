@@ -148,7 +148,8 @@ ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record) {
 Surface weld_pieces(const std::vector<Surface>& pieces) {
     Surface out;
     if (pieces.empty()) return out;
-    for (const Field& f : pieces.front().fields) out.fields.push_back({f.name, f.components, {}});
+    for (const Field& f : pieces.front().fields)
+        out.fields.push_back({f.name, f.components, {}, f.kind});
     using Key = std::array<uint32_t, 3>; // a position's bits
     struct KeyHash {
         size_t operator()(const Key& k) const {
@@ -217,7 +218,7 @@ Surface stitch(const std::vector<ReducedPiece>& pieces) {
     Surface out;
     if (pieces.empty()) return out;
     for (const Field& f : pieces.front().surface.fields)
-        out.fields.push_back({f.name, f.components, {}});
+        out.fields.push_back({f.name, f.components, {}, f.kind});
     std::unordered_map<uint32_t, uint32_t> welded; // global id -> vertex of `out`
     for (const ReducedPiece& piece : pieces) {
         const Surface& s = piece.surface;
