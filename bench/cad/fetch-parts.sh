@@ -3,7 +3,7 @@
 # collapse keeps such shapes: the meshes of Debian's libcgal-demo package (CGAL's demo data,
 # data/meshes/ inside usr/share/doc/libcgal-dev/data.tar.gz), unpacked with dpkg, not installed.
 # They are not copied into the repository: CGAL's data carry CGAL's terms (see the package's
-# copyright file, which this script keeps beside them).
+# copyright file, which libcgal-dev holds and this script keeps beside them).
 #
 # Usage: bench/cad/fetch-parts.sh [DIR]      (default: bench/data/cad, git-ignored)
 set -euo pipefail
@@ -16,8 +16,9 @@ readonly parts=(anchor couplingdown dragknob fandisk pinion rotor spool part mec
 mkdir -p "$out"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-(cd "$work" && apt-get download libcgal-demo >/dev/null)
+(cd "$work" && apt-get download libcgal-demo libcgal-dev >/dev/null 2>&1)
 dpkg -x "$work"/libcgal-demo_*.deb "$work/pkg"
+dpkg -x "$work"/libcgal-dev_*.deb "$work/pkg"
 tar -xzf "$work/pkg/usr/share/doc/libcgal-dev/data.tar.gz" -C "$work" data/meshes
 for part in "${parts[@]}"; do
     cp "$work/data/meshes/$part.off" "$out/"
