@@ -1,8 +1,8 @@
 // Legacy .vtk files (VTK's "# vtk DataFile Version" format), ASCII or BINARY, as a surface:
 // a POLYDATA's polygons and triangle strips, or an UNSTRUCTURED_GRID's 2-D cells, as triangles,
-// with the point data (SCALARS, VECTORS, NORMALS, TEXTURE_COORDINATES, TENSORS, COLOR_SCALARS
-// and FIELD arrays) as fields. Cell data, vertices, lines and the data set's own FIELD data are
-// read past. Throws VtkFormatError saying what is wrong.
+// with the point data (SCALARS, VECTORS, NORMALS, TEXTURE_COORDINATES, TENSORS, TENSORS6,
+// COLOR_SCALARS and FIELD arrays) as fields. Cell data, vertices, lines and the data set's own
+// FIELD data are read past. Throws VtkFormatError saying what is wrong.
 import { checkPoints, gridTriangles, polygonTriangles, readCellArray, stripTriangles, TriangleList }
   from './vtk_legacy_cells.js';
 import { decodeName, VtkCursor, VtkFormatError } from './vtk_legacy_cursor.js';
@@ -63,9 +63,10 @@ function readAttribute(cursor, key, tuples) {
       const n = name();
       return array(n, 3, type(), `${key.toUpperCase()} ${n}`);
     }
-    case 'tensors': {
+    case 'tensors':
+    case 'tensors6': { // the full 3 x 3, or the 6 of a symmetric one (VTK 9.1)
       const n = name();
-      return array(n, 9, type(), `TENSORS ${n}`);
+      return array(n, key === 'tensors' ? 9 : 6, type(), `${key.toUpperCase()} ${n}`);
     }
     case 'texture_coordinates': {
       const n = name();
