@@ -68,6 +68,8 @@ Config parse_config(int argc, char** argv) {
     opt("--tls-key", c.tls_key, "TLS private key (PEM)");
     opt("--threads", c.threads, "simplification threads")->check(CLI::Range(1, 256));
     opt("--cache-mb", c.cache_mb, "memory for cached results (MiB)");
+    opt("--surfaces-mb", c.surfaces_mb,
+        "memory for stored surfaces (MiB); the others stay on disk until a request needs them");
     opt("--web-dir", c.web_dir, "the browser renderer's built files, served at / (\"\" for none)");
     opt("--sample", c.sample, "a surface file loaded at start (\"\" for none)");
     opt("--max-frame-bytes", c.max_frame_bytes, "largest accepted frame");

@@ -39,8 +39,9 @@ struct Config {
     std::string tls_key;
     int threads = 2; // compute pool
     size_t cache_mb = 512;
-    std::string web_dir; // the browser renderer's built files, served at /
-    std::string sample;  // a surface file loaded at start (the built-in sample by default)
+    size_t surfaces_mb = 512; // stored surfaces kept in memory (the rest are read when needed)
+    std::string web_dir;      // the browser renderer's built files, served at /
+    std::string sample;       // a surface file loaded at start (the built-in sample by default)
 
     // limits
     size_t max_frame_bytes = 4u << 20;
@@ -52,8 +53,8 @@ struct Config {
     size_t max_clients_per_address = 64;
     size_t fd_reserve = 64;
     size_t max_sessions = 64;
-    size_t max_queue_mb = 256;   // per client: bytes waiting to be sent
-    size_t max_upload_mb = 1024; // all clients together: uploads received but not yet stored
+    size_t max_queue_mb = 256;        // per client: bytes waiting to be sent
+    size_t max_upload_mb = 1024;      // all clients together: uploads received but not yet stored
     size_t max_remembered_kb = 16384; // result keys remembered after their requests, for resuming
     Timeouts timeouts;
     std::string log_level = "info";

@@ -38,6 +38,18 @@ std::string Metrics::render(const Snapshot& s) const {
            bad_frames.load());
     metric("sessions", "gauge", "Open sessions.", s.sessions);
     metric("surfaces", "gauge", "Stored surfaces.", s.surfaces);
+    metric("surfaces_resident", "gauge", "Stored surfaces held in memory (the sample aside).",
+           s.surfaces_resident);
+    metric("surface_bytes", "gauge", "Bytes of the stored surfaces held in memory.",
+           s.surface_bytes);
+    metric("surface_limit_bytes", "gauge", "The most they may take (--surfaces-mb).",
+           s.surface_limit_bytes);
+    metric("surface_pinned_bytes", "gauge", "Bytes of the sample, kept in memory outside it.",
+           s.surface_pinned_bytes);
+    metric("surface_loads_total", "counter", "Stored surfaces read from the data directory.",
+           s.surface_loads);
+    metric("surface_evictions_total", "counter",
+           "Stored surfaces dropped from memory to stay within the bound.", s.surface_evictions);
     metric("uploads_total", "counter", "Surfaces uploaded.", uploads.load());
     metric("requests_total", "counter", "Reduction requests received.", requests.load());
     metric("request_errors_total", "counter", "Requests ended by an error.", request_errors.load());

@@ -46,6 +46,8 @@ struct Metrics {
     // The exposition text; the cache, session and surface numbers are passed in.
     struct Snapshot {
         size_t sessions = 0, surfaces = 0;
+        size_t surfaces_resident = 0, surface_bytes = 0, surface_pinned_bytes = 0;
+        size_t surface_limit_bytes = 0, surface_loads = 0, surface_evictions = 0;
         size_t cache_hits = 0, cache_misses = 0, cache_bytes = 0, cache_entries = 0;
         size_t computations = 0, evictions = 0;
     };

@@ -53,7 +53,7 @@ class Reductions {
 public:
     // `engine_threads`: Options::threads of every run (the pool's threads times these stay
     // within the cores).
-    Reductions(const SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
+    Reductions(SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
         : store_(store), cache_(cache), metrics_(metrics), engine_threads_(engine_threads) {}
 
     // A record of `params` that holds every level down to `depth` triangles: cached, or run now
@@ -71,7 +71,7 @@ public:
                                               float keep, v1::Encoding encoding);
 
 private:
-    const SurfaceStore& store_;
+    SurfaceStore& store_;
     ResultCache& cache_;
     Metrics& metrics_;
     const int engine_threads_;

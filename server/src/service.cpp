@@ -52,7 +52,8 @@ int engine_threads(int pool_threads) {
 } // namespace
 
 Service::Service(asio::io_context& io, const Config& config)
-    : io_(io), config_(config), store_(config.data_dir), cache_(config.cache_mb << 20),
+    : io_(io), config_(config), store_(config.data_dir, config.surfaces_mb << 20),
+      cache_(config.cache_mb << 20),
       reductions_(store_, cache_, metrics_, engine_threads(config.threads)),
       sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
@@ -122,6 +123,10 @@ std::string Service::metrics_text() {
     Metrics::Snapshot s;
     s.sessions = sessions_.size();
     s.surfaces = store_.size();
+    const SurfaceStore::Residency r = store_.residency();
+    s.surfaces_resident = r.resident, s.surface_bytes = r.resident_bytes;
+    s.surface_pinned_bytes = r.pinned_bytes, s.surface_limit_bytes = r.limit_bytes;
+    s.surface_loads = r.loads, s.surface_evictions = r.evictions;
     s.cache_hits = cs.hits, s.cache_misses = cs.misses, s.cache_bytes = cs.bytes;
     s.cache_entries = cs.entries, s.computations = cs.computations, s.evictions = cs.evictions;
     return metrics_.render(s);

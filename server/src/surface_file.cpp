@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -14,7 +15,8 @@
 namespace ddsimp::server {
 namespace {
 
-constexpr char kMagic[] = "DDSURF1\n";
+constexpr char kMagic[] = "DDSURF2\n";         // the header's fields carry their ranges
+constexpr char kMagicNoRanges[] = "DDSURF1\n"; // written before ranges were
 constexpr size_t kMagicBytes = 8;
 
 std::string system_error(const std::string& what, const std::filesystem::path& path) {
@@ -31,6 +33,47 @@ void write_all(int fd, const std::string& bytes, const std::filesystem::path& pa
     }
 }
 
+struct ParsedHeader {
+    v1::UploadBegin header;
+    bool ranges = false;
+    size_t body = 0; // where the blob starts
+};
+
+// The magic, the header length and the header of a file whose first bytes are `prefix` (at least
+// kMagicBytes + 4 of them); `read_more(n)` gives the next n bytes of the file after them.
+template <class ReadMore>
+ParsedHeader parse_header(const std::string& prefix, ReadMore read_more,
+                          const std::filesystem::path& path) {
+    const auto fail = [&](const std::string& what) {
+        return SurfaceFileError(path.string() + ": " + what);
+    };
+    ParsedHeader out;
+    if (prefix.size() < kMagicBytes + 4) throw fail("not a ddsimp surface file");
+    if (prefix.compare(0, kMagicBytes, kMagic) == 0)
+        out.ranges = true;
+    else if (prefix.compare(0, kMagicBytes, kMagicNoRanges) != 0)
+        throw fail("not a ddsimp surface file");
+    uint32_t header_bytes = 0;
+    for (int i = 0; i < 4; ++i)
+        header_bytes |= uint32_t(static_cast<unsigned char>(prefix[kMagicBytes + i])) << (8 * i);
+    const std::string header = read_more(size_t(header_bytes));
+    if (header.size() != header_bytes) throw fail("truncated header");
+    if (!out.header.ParseFromString(header)) throw fail("the header does not parse");
+    out.body = kMagicBytes + 4 + size_t(header_bytes);
+    return out;
+}
+
+protocol::BlobLayout layout_of(const v1::UploadBegin& header) {
+    protocol::BlobLayout layout;
+    layout.vertex_count = header.vertex_count();
+    layout.triangle_count = header.triangle_count();
+    for (const v1::FieldInfo& f : header.fields())
+        layout.fields.push_back(protocol::field_spec_of(f));
+    layout.section_bytes =
+        protocol::raw_mesh_sections(layout.vertex_count, layout.triangle_count, layout.fields);
+    return layout;
+}
+
 } // namespace
 
 std::string encode_surface_file(const std::string& name, const Surface& surface) {
@@ -38,8 +81,15 @@ std::string encode_surface_file(const std::string& name, const Surface& surface)
     header.set_name(name);
     header.set_vertex_count(surface.vertex_count());
     header.set_triangle_count(surface.triangle_count());
-    for (const protocol::FieldSpec& f : protocol::field_specs(surface))
-        protocol::set_field_info(*header.add_fields(), f);
+    for (const Field& f : surface.fields) {
+        v1::FieldInfo* info = header.add_fields();
+        protocol::set_field_info(*info, {f.name, uint32_t(f.components), f.kind});
+        if (!f.values.empty()) {
+            const auto [lo, hi] = std::minmax_element(f.values.begin(), f.values.end());
+            info->set_min(*lo);
+            info->set_max(*hi);
+        }
+    }
     const protocol::EncodedBlob blob = protocol::encode_mesh(surface, v1::RAW);
     header.set_total_bytes(blob.bytes.size());
     const std::string h = header.SerializeAsString();
@@ -54,31 +104,53 @@ SurfaceFile read_surface_file(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SurfaceFileError(system_error("cannot open", path));
     const std::string bytes{std::istreambuf_iterator<char>(in), {}};
-    const auto fail = [&](const std::string& what) {
-        return SurfaceFileError(path.string() + ": " + what);
-    };
-    if (bytes.size() < kMagicBytes + 4 || bytes.compare(0, kMagicBytes, kMagic) != 0)
-        throw fail("not a ddsimp surface file");
-    uint32_t header_bytes = 0;
-    for (int i = 0; i < 4; ++i)
-        header_bytes |= uint32_t(static_cast<unsigned char>(bytes[kMagicBytes + i])) << (8 * i);
-    const size_t body = kMagicBytes + 4 + size_t(header_bytes);
-    if (body > bytes.size()) throw fail("truncated header");
-    v1::UploadBegin header;
-    if (!header.ParseFromArray(bytes.data() + kMagicBytes + 4, int(header_bytes)))
-        throw fail("the header does not parse");
-    protocol::BlobLayout layout;
-    layout.vertex_count = header.vertex_count();
-    layout.triangle_count = header.triangle_count();
-    for (const v1::FieldInfo& f : header.fields())
-        layout.fields.push_back(protocol::field_spec_of(f));
+    const ParsedHeader parsed = parse_header(
+        bytes.substr(0, kMagicBytes + 4),
+        [&](size_t n) { return bytes.substr(std::min(bytes.size(), kMagicBytes + 4), n); }, path);
     try {
-        layout.section_bytes =
-            protocol::raw_mesh_sections(layout.vertex_count, layout.triangle_count, layout.fields);
-        return {header.name(), protocol::decode_mesh(std::string_view(bytes).substr(body), layout)};
+        return {parsed.header.name(),
+                protocol::decode_mesh(std::string_view(bytes).substr(parsed.body),
+                                      layout_of(parsed.header))};
     } catch (const protocol::BlobError& e) {
-        throw fail(e.what());
+        throw SurfaceFileError(path.string() + ": " + e.what());
     }
+}
+
+SurfaceFileHeader read_surface_header(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw SurfaceFileError(system_error("cannot open", path));
+    const auto read = [&](size_t n) {
+        std::string out(n, '\0');
+        in.read(out.data(), std::streamsize(n));
+        out.resize(size_t(in.gcount()));
+        return out;
+    };
+    const ParsedHeader parsed = parse_header(read(kMagicBytes + 4), read, path);
+    const v1::UploadBegin& h = parsed.header;
+    SurfaceFileHeader out;
+    out.name = h.name();
+    out.vertices = h.vertex_count();
+    out.triangles = h.triangle_count();
+    out.ranges = parsed.ranges;
+    for (const v1::FieldInfo& f : h.fields())
+        out.fields.push_back({f.name(), int(f.components()), protocol::field_spec_of(f).kind,
+                              f.min(), f.max()});
+    try {
+        const protocol::BlobLayout layout = layout_of(h);
+        std::vector<protocol::FieldSpec> fields;
+        for (const v1::FieldInfo& f : h.fields()) fields.push_back(protocol::field_spec_of(f));
+        out.blob_bytes = protocol::raw_mesh_bytes(out.vertices, out.triangles, fields);
+    } catch (const protocol::BlobError& e) {
+        throw SurfaceFileError(path.string() + ": " + e.what());
+    }
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw SurfaceFileError(path.string() + ": " + ec.message());
+    if (size != parsed.body + out.blob_bytes)
+        throw SurfaceFileError(path.string() + ": " + std::to_string(size) +
+                               " bytes, but its header announces " +
+                               std::to_string(parsed.body + out.blob_bytes));
+    return out;
 }
 
 void write_file_atomically(const std::filesystem::path& path, const std::string& bytes) {

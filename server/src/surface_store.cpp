@@ -71,7 +71,14 @@ StoredSurface describe_surface(const std::string& id, const std::string& name, c
     return info;
 }
 
-SurfaceStore::SurfaceStore(fs::path dir) : dir_(std::move(dir)) {
+size_t surface_bytes(const Surface& s) {
+    size_t bytes = sizeof(Surface) + 4 * (s.positions.size() + s.triangles.size());
+    for (const Field& f : s.fields) bytes += sizeof(Field) + f.name.size() + 4 * f.values.size();
+    return bytes;
+}
+
+SurfaceStore::SurfaceStore(fs::path dir, size_t memory_bytes)
+    : dir_(std::move(dir)), memory_limit_(memory_bytes) {
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec)
@@ -91,27 +98,105 @@ SurfaceStore::SurfaceStore(fs::path dir) : dir_(std::move(dir)) {
         }
         if (p.extension() != kExtension) continue;
         try {
-            SurfaceFile file = read_surface_file(p);
-            const std::string id = protocol::surface_hash(file.surface);
-            if (id != p.stem().string()) {
-                spdlog::error("skipping {}: its content hash is {}", p.string(), id);
-                continue;
+            const std::string id = p.stem().string();
+            if (id.size() != 64 || id.find_first_not_of("0123456789abcdef") != std::string::npos)
+                throw SurfaceFileError(p.string() + ": not named by a content hash");
+            // The header only; the surface is read (and its hash checked) when it is needed.
+            const SurfaceFileHeader header = read_surface_header(p);
+            StoredSurface info{id, "", header.vertices, header.triangles, {}};
+            for (const auto& f : header.fields)
+                info.fields.push_back({f.name, f.components, f.kind, f.min, f.max});
+            if (!header.ranges) { // an older file: its ranges need its data, once
+                const Surface surface = read(id);
+                info = describe_surface(id, "", surface);
             }
             fs::path scopes = p;
             scopes.replace_extension(kScopesExtension);
-            std::map<std::string, std::string> labels{{kPublicScope, file.name}}; // before scopes
+            std::map<std::string, std::string> labels{{kPublicScope, header.name}}; // before scopes
             if (fs::exists(scopes)) {
                 std::ifstream in(scopes, std::ios::binary);
                 labels = decode_scopes({std::istreambuf_iterator<char>(in), {}}, scopes);
             }
-            Entry e{describe_surface(id, "", file.surface), std::move(labels),
-                    std::make_shared<const Surface>(std::move(file.surface))};
+            Entry e;
+            e.info = std::move(info);
+            e.labels = std::move(labels);
+            e.bytes = sizeof(Surface) + header.blob_bytes;
             entries_.emplace(id, std::move(e));
         } catch (const std::exception& e) {
             spdlog::error("skipping {}", e.what());
         }
     }
     spdlog::info("data directory {}: {} surfaces", dir_.string(), entries_.size());
+}
+
+Surface SurfaceStore::read(const std::string& id) const {
+    const fs::path path = dir_ / (id + kExtension);
+    SurfaceFile file = read_surface_file(path);
+    const std::string hash = protocol::surface_hash(file.surface);
+    if (hash != id) throw SurfaceFileError(path.string() + ": its content hash is " + hash);
+    return std::move(file.surface);
+}
+
+void SurfaceStore::keep(Entry& e, const std::string& id, std::shared_ptr<const Surface> surface) {
+    if (e.bytes > memory_limit_) return;
+    // The least recently used surfaces that nobody else holds go first; nothing is evicted
+    // unless that makes room.
+    std::vector<std::string> victims;
+    size_t after = resident_bytes_;
+    for (auto r = recent_.rbegin(); r != recent_.rend() && after + e.bytes > memory_limit_; ++r) {
+        const Entry& other = entries_.at(*r);
+        if (other.surface.use_count() != 1) continue; // a job holds it
+        victims.push_back(*r);
+        after -= other.bytes;
+    }
+    if (after + e.bytes > memory_limit_) return;
+    for (const std::string& v : victims) evict(entries_.at(v));
+    e.surface = std::move(surface);
+    resident_bytes_ += e.bytes;
+    recent_.push_front(id);
+    e.recent = recent_.begin();
+}
+
+void SurfaceStore::evict(Entry& e) {
+    e.surface.reset();
+    resident_bytes_ -= e.bytes;
+    recent_.erase(e.recent);
+    ++evictions_;
+}
+
+std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) {
+    {
+        std::lock_guard lock(mutex_);
+        auto it = entries_.find(id);
+        if (it == entries_.end()) return nullptr;
+        Entry& e = it->second;
+        if (e.surface) {
+            if (!e.pinned) recent_.splice(recent_.begin(), recent_, e.recent);
+            return e.surface;
+        }
+        if (auto held = e.in_use.lock()) { // evicted or never kept, but a job still has it
+            keep(e, id, held);
+            return held;
+        }
+    }
+    auto loaded = std::make_shared<const Surface>(read(id));
+    std::lock_guard lock(mutex_);
+    ++loads_;
+    Entry& e = entries_.at(id);      // entries are never removed
+    if (e.surface) return e.surface; // another thread read it meanwhile
+    if (auto held = e.in_use.lock()) {
+        keep(e, id, held);
+        return held;
+    }
+    e.bytes = surface_bytes(*loaded);
+    e.in_use = loaded;
+    keep(e, id, loaded);
+    return loaded;
+}
+
+SurfaceStore::Residency SurfaceStore::residency() const {
+    std::lock_guard lock(mutex_);
+    return {recent_.size(), resident_bytes_, pinned_bytes_, memory_limit_, loads_, evictions_};
 }
 
 std::optional<StoredSurface> SurfaceStore::visible(const Entry& e,
@@ -154,14 +239,25 @@ SurfaceStore::Added SurfaceStore::insert(const std::string& id, const std::strin
         if (!known)
             write_file_atomically(dir_ / (id + kExtension), encode_surface_file(name, surface));
     }
+    StoredSurface info = describe_surface(id, "", surface);
+    const size_t bytes = surface_bytes(surface);
+    auto held = std::make_shared<const Surface>(std::move(surface));
     std::lock_guard lock(mutex_);
     auto it = entries_.find(id);
-    if (it == entries_.end())
-        it = entries_
-                 .emplace(id, Entry{describe_surface(id, "", surface),
-                                    {},
-                                    std::make_shared<const Surface>(std::move(surface))})
-                 .first;
+    if (it == entries_.end()) {
+        it = entries_.emplace(id, Entry{}).first;
+        Entry& e = it->second;
+        e.info = std::move(info);
+        e.bytes = bytes;
+        e.in_use = held;
+        if (write) { // just uploaded: likely asked for soon
+            keep(e, id, std::move(held));
+        } else {
+            e.pinned = true;
+            e.surface = std::move(held);
+            pinned_bytes_ += bytes;
+        }
+    }
     it->second.labels.emplace(scope, name);
     return {*visible(it->second, {scope}), false};
 }
@@ -207,12 +303,6 @@ std::optional<StoredSurface> SurfaceStore::find(const std::string& id,
     auto it = entries_.find(id);
     if (it == entries_.end()) return std::nullopt;
     return visible(it->second, scopes);
-}
-
-std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) const {
-    std::lock_guard lock(mutex_);
-    auto it = entries_.find(id);
-    return it == entries_.end() ? nullptr : it->second.surface;
 }
 
 std::vector<StoredSurface> SurfaceStore::list(const std::set<std::string>& scopes) const {

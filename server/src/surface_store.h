@@ -1,6 +1,12 @@
 // The stored surfaces: one file per surface in the data directory, named by its content hash,
-// written atomically and reloaded at start. Thread-safe: uploads are stored and surfaces loaded
-// on the compute pool.
+// written atomically. Thread-safe: uploads are stored and surfaces loaded on the compute pool.
+//
+// Surfaces live on disk and come into memory on demand. At start only the index is read (ids,
+// labels, sizes, fields: each file's header); load() reads a surface when a job needs it and
+// keeps it within a memory bound, evicting the least recently used surface that nobody else
+// holds. A job's shared_ptr keeps its surface alive, so a surface in use is never evicted; one
+// that does not fit is the job's alone and goes when the job ends. The built-in sample is pinned
+// in memory, outside the bound.
 //
 // Who may see a surface: its scopes. The public scope is every client's; a session's scope
 // (session_scope) is its members'. A surface is stored once whatever scopes share it; each scope
@@ -12,7 +18,9 @@
 
 #include "ddsimp/ddsimp.h"
 
+#include <cstdint>
 #include <filesystem>
+#include <list>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -47,7 +55,8 @@ public:
     // Loads every complete surface file of `dir` (creating it if missing). Leftover temporary
     // files of an interrupted write are removed; a file that does not load is logged and skipped.
     // Throws std::runtime_error if the directory cannot be created or read.
-    explicit SurfaceStore(std::filesystem::path dir);
+    // `memory_bytes`: the most the resident surfaces (the sample aside) may take.
+    explicit SurfaceStore(std::filesystem::path dir, size_t memory_bytes = SIZE_MAX);
 
     struct Added {
         StoredSurface info;
@@ -69,18 +78,40 @@ public:
     // The surface if one of `scopes` sees it, with the label of the first that does.
     std::optional<StoredSurface> find(const std::string& id,
                                       const std::set<std::string>& scopes) const;
-    std::shared_ptr<const Surface> load(const std::string& id) const; // nullptr if unknown
+    // The surface, from memory or read from its file (slow: not on the network thread); nullptr
+    // if unknown. Throws SurfaceFileError if its file cannot be read or is not the surface it
+    // names (the surface is then dropped from the index).
+    std::shared_ptr<const Surface> load(const std::string& id);
     // What `scopes` see, by name, then id.
     std::vector<StoredSurface> list(const std::set<std::string>& scopes) const;
     size_t size() const;
     const std::filesystem::path& dir() const { return dir_; }
 
+    // For /metrics.
+    struct Residency {
+        size_t resident = 0, resident_bytes = 0; // held in memory within the bound
+        size_t pinned_bytes = 0;                 // the sample's
+        size_t limit_bytes = 0;
+        uint64_t loads = 0, evictions = 0;
+    };
+    Residency residency() const;
+
 private:
     struct Entry {
         StoredSurface info;                        // name unset: see labels
         std::map<std::string, std::string> labels; // scope -> the surface's label there
-        std::shared_ptr<const Surface> surface;
+        size_t bytes = 0;                          // in memory
+        bool pinned = false;                       // in memory only (the sample)
+        std::shared_ptr<const Surface> surface;    // resident (held by the store), or null
+        std::weak_ptr<const Surface> in_use;       // still held by a job after its eviction
+        std::list<std::string>::iterator recent;   // its place in recent_ while resident
     };
+    // Makes `surface` resident for `e` if it fits, evicting the least recently used surfaces
+    // nobody else holds; otherwise leaves it to its holders. Under mutex_.
+    void keep(Entry& e, const std::string& id, std::shared_ptr<const Surface> surface);
+    void evict(Entry& e);
+    // Reads and checks the file of `id`; throws SurfaceFileError.
+    Surface read(const std::string& id) const;
     Added insert(const std::string& id, const std::string& name, Surface surface,
                  const std::string& scope, bool write);
     // Writes the scopes file of `id` with `labels` (under files_mutex_).
@@ -92,7 +123,14 @@ private:
     mutable std::mutex mutex_; // entries_
     std::mutex files_mutex_;   // writes, so that concurrent scope changes reach the disk in order
     std::map<std::string, Entry> entries_;
+    std::list<std::string> recent_; // resident unpinned surfaces, the most recently used first
+    size_t memory_limit_;
+    size_t resident_bytes_ = 0, pinned_bytes_ = 0;
+    uint64_t loads_ = 0, evictions_ = 0;
 };
+
+// The bytes a surface takes in memory (its arrays).
+size_t surface_bytes(const Surface& s);
 
 StoredSurface describe_surface(const std::string& id, const std::string& name, const Surface& s);
 
