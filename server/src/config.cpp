@@ -64,6 +64,8 @@ Config parse_config(int argc, char** argv) {
     opt("--http-port", c.http_port, "HTTP port: /healthz, /metrics, WebSocket /ws, web renderer");
     opt("--data-dir", c.data_dir, "where uploaded surfaces are stored");
     opt("--token", c.token, "require this token from every client");
+    opt("--tokens-file", c.tokens_file,
+        "a file of tokens, one per user: lines \"NAME TOKEN\" (each with its own quotas)");
     opt("--tls-cert", c.tls_cert, "TLS certificate (PEM); with --tls-key, TLS on both ports");
     opt("--tls-key", c.tls_key, "TLS private key (PEM)");
     opt("--threads", c.threads, "simplification threads")->check(CLI::Range(1, 256));
@@ -87,6 +89,12 @@ Config parse_config(int argc, char** argv) {
         "all clients together: MiB of uploads received but not yet stored");
     opt("--max-remembered-kb", c.max_remembered_kb,
         "KiB of result keys remembered after their requests (for resuming by key)");
+    opt("--quota-surfaces", c.quota_surfaces,
+        "per token and per session: stored surfaces (uploads in progress count)");
+    opt("--quota-surfaces-mb", c.quota_surfaces_mb,
+        "per token and per session: MiB of stored surfaces and uploads in progress");
+    opt("--quota-upload-mb", c.quota_upload_mb,
+        "per token and per session: MiB of uploads in progress");
     Timeouts& t = c.timeouts;
     const auto seconds = [&](const std::string& name, double& value, const std::string& help) {
         opt(name, value, help)->check(CLI::Range(0.001, 1e6));

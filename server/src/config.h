@@ -34,8 +34,9 @@ struct Config {
     uint16_t port = 7420;
     uint16_t http_port = 7421;
     std::string data_dir = "ddsimp-data";
-    std::string token;    // empty: no authentication
-    std::string tls_cert; // both set: TLS on the native and HTTP ports
+    std::string token;       // empty: no authentication (unless tokens_file names some)
+    std::string tokens_file; // one token per user: lines "NAME TOKEN" (tokens.h)
+    std::string tls_cert;    // both set: TLS on the native and HTTP ports
     std::string tls_key;
     int threads = 2; // compute pool
     size_t cache_mb = 512;
@@ -56,6 +57,11 @@ struct Config {
     size_t max_queue_mb = 256;        // per client: bytes waiting to be sent
     size_t max_upload_mb = 1024;      // all clients together: uploads received but not yet stored
     size_t max_remembered_kb = 16384; // result keys remembered after their requests, for resuming
+    // Per token and per session (quotas.h): stored surfaces, their MiB, and MiB of uploads in
+    // progress.
+    size_t quota_surfaces = 1000;
+    size_t quota_surfaces_mb = 8192;
+    size_t quota_upload_mb = 512;
     Timeouts timeouts;
     std::string log_level = "info";
     std::string log_format = "text"; // or "json": one JSON object per line

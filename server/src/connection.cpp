@@ -144,14 +144,14 @@ void Connection::on_hello(const v1::Hello& hello) {
     welcome.set_protocol_version(protocol::kProtocolVersion);
     welcome.set_server_name(service_.server_name());
     for (const std::string& c : capabilities_) welcome.add_capabilities(c);
-    welcome.set_auth_required(!config.token.empty());
+    welcome.set_auth_required(service_.tokens().required());
     welcome.set_client_id(id_);
     welcome.set_max_frame_bytes(config.max_frame_bytes);
     welcome.set_max_surface_triangles(config.max_surface_triangles);
     welcome.set_chunk_bytes(uint32_t(protocol::kDefaultChunkBytes));
     protocol::set_defaults(*welcome.mutable_defaults());
     send(welcome);
-    if (config.token.empty()) {
+    if (!service_.tokens().required()) {
         authenticated_ = true;
         arm_idle_timer();
     }
@@ -160,16 +160,12 @@ void Connection::on_hello(const v1::Hello& hello) {
 }
 
 void Connection::on_auth(const v1::Auth& auth) {
-    const std::string& token = service_.config().token;
-    // Compare without an early exit so the time does not tell how much matched.
-    unsigned char diff = token.size() != auth.token().size();
-    for (size_t i = 0; i < token.size(); ++i)
-        diff |=
-            static_cast<unsigned char>(token[i] ^ (i < auth.token().size() ? auth.token()[i] : 0));
-    if (diff != 0) {
+    std::optional<std::string> name = service_.tokens().match(auth.token());
+    if (!name) {
         spdlog::warn("client {} ({}): wrong token", id_, peer_);
         return send_error(v1::Error::UNAUTHENTICATED, "wrong token", 0, true);
     }
+    token_ = std::move(*name);
     authenticated_ = true;
     arm_idle_timer();
     send(v1::AuthOk{});
@@ -232,13 +228,13 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
                           std::to_string(begin.triangle_count()) +
                           " triangles and these fields take " + std::to_string(expected));
     // Nothing is allocated before the bytes are counted against the server-wide budget.
-    if (!service_.reserve_upload_bytes(expected))
-        return refuse(v1::Error::RESOURCE_EXHAUSTED,
-                      std::to_string(expected) + " bytes do not fit in the server's " +
-                          std::to_string(config.max_upload_mb) +
-                          " MiB for uploads in progress; try again later");
+    UploadOwner owner{token_, begin.session(),
+                      begin.session().empty() ? "" : sessions_.at(begin.session())};
+    if (auto why = service_.reserve_upload(owner, expected))
+        return refuse(v1::Error::RESOURCE_EXHAUSTED, *why);
     Upload& u = uploads_[id];
     u.begin = begin;
+    u.owner = std::move(owner);
     u.bytes.reserve(expected);
     u.last_heard = std::chrono::steady_clock::now();
     if (uploads_.size() == 1) expire_uploads();
@@ -270,7 +266,7 @@ void Connection::expire_uploads() {
 }
 
 void Connection::forget_upload(std::map<uint64_t, Upload>::iterator it) {
-    service_.release_upload_bytes(it->second.begin.total_bytes());
+    service_.release_upload(it->second.owner, it->second.begin.total_bytes());
     uploads_.erase(it);
 }
 
@@ -314,7 +310,7 @@ void Connection::on_upload_end(const v1::UploadEnd& end) {
     // The service holds the bytes, and their share of the upload budget, until they are stored.
     Upload u = std::move(it->second);
     uploads_.erase(it);
-    service_.upload(shared_from_this(), std::move(u.begin), std::move(u.bytes));
+    service_.upload(shared_from_this(), std::move(u.begin), std::move(u.bytes), std::move(u.owner));
 }
 
 void Connection::on_request(const v1::Request& request) {
@@ -326,14 +322,14 @@ void Connection::on_request(const v1::Request& request) {
     const size_t held = std::max(active_requests_.size(), request_jobs_);
     if (held >= kMaxRequestsPerConnection) {
         const size_t stopping = held - active_requests_.size();
-        return send_error(v1::Error::RESOURCE_EXHAUSTED,
-                          "request " + std::to_string(request.request_id()) + ": at most " +
-                              std::to_string(kMaxRequestsPerConnection) +
-                              " requests at once per connection" +
-                              (stopping > 0 ? " (" + std::to_string(stopping) +
-                                                  " cancelled ones are still stopping)"
-                                            : ""),
-                          request.request_id());
+        return send_error(
+            v1::Error::RESOURCE_EXHAUSTED,
+            "request " + std::to_string(request.request_id()) + ": at most " +
+                std::to_string(kMaxRequestsPerConnection) + " requests at once per connection" +
+                (stopping > 0
+                     ? " (" + std::to_string(stopping) + " cancelled ones are still stopping)"
+                     : ""),
+            request.request_id());
     }
     service_.request(shared_from_this(), request);
 }

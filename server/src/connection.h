@@ -3,6 +3,7 @@
 // work for the compute pool goes through the Service.
 #pragma once
 
+#include "quotas.h"
 #include "send_queue.h"
 #include "transport.h"
 
@@ -69,6 +70,7 @@ private:
     void on_upload_end(const v1::UploadEnd& end);
     struct Upload {
         v1::UploadBegin begin;
+        UploadOwner owner;
         std::string bytes;
         std::chrono::steady_clock::time_point last_heard; // UploadBegin or the latest chunk
     };
@@ -89,6 +91,7 @@ private:
     v1::Member member_;
     std::set<std::string> capabilities_;
     bool hello_ = false, authenticated_ = false;
+    std::string token_; // the name of the token it presented (tokens.h); empty: none
     bool writing_ = false, closing_ = false, closed_ = false;
     SendQueue queue_;
     int64_t accounted_queue_bytes_ = 0;

@@ -224,11 +224,7 @@ void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> 
         done(GlbAnswer{status, "text/plain; charset=utf-8", why + "\n", ""});
     };
     if (!d.error.empty()) return refuse(d.error.starts_with("no such path") ? 404 : 400, d.error);
-    const std::string& token = config_.token;
-    unsigned char diff = token.size() != d.token.size();
-    for (size_t i = 0; i < token.size(); ++i)
-        diff |= static_cast<unsigned char>(token[i] ^ (i < d.token.size() ? d.token[i] : 0));
-    if (diff)
+    if (tokens_.required() && !tokens_.match(d.token))
         return refuse(401, d.token.empty() ? "this server needs a token (token=T)" : "wrong token");
     const auto stored = store_.find(d.surface, glb_download_scopes(d));
     if (!stored) return refuse(404, "no surface " + d.surface);

@@ -84,6 +84,9 @@ std::string Metrics::render(const Snapshot& s) const {
            queue_bytes_peak.load());
     metric("upload_bytes", "gauge", "Bytes of uploads received but not yet stored, all clients.",
            upload_bytes.load());
+    metric("quota_refusals_total", "counter",
+           "Uploads refused by a token's or session's quota, or the budget of all uploads.",
+           quota_refusals.load());
     metric("sent_bytes_total", "counter", "Bytes sent.", bytes_sent.load());
     metric("received_bytes_total", "counter", "Bytes received.", bytes_received.load());
 

@@ -28,6 +28,7 @@ struct Metrics {
     std::atomic<int64_t> queue_bytes{0};      // waiting to be sent, all clients
     std::atomic<int64_t> queue_bytes_peak{0}; // the most one client ever had waiting
     std::atomic<int64_t> upload_bytes{0};     // uploads received but not yet stored, all clients
+    std::atomic<uint64_t> quota_refusals{0};  // uploads refused by a quota or the upload budget
     std::atomic<uint64_t> bytes_sent{0};
     std::atomic<uint64_t> bytes_received{0};
     std::atomic<int64_t> reductions_running{0};    // records being computed now

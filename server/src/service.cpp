@@ -52,8 +52,8 @@ int engine_threads(int pool_threads) {
 } // namespace
 
 Service::Service(asio::io_context& io, const Config& config)
-    : io_(io), config_(config), store_(config.data_dir, config.surfaces_mb << 20),
-      cache_(config.cache_mb << 20),
+    : io_(io), config_(config), tokens_(config_), store_(config.data_dir, config.surfaces_mb << 20),
+      quotas_(config_, store_, metrics_), cache_(config.cache_mb << 20),
       reductions_(store_, cache_, metrics_, engine_threads(config.threads)),
       sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
@@ -140,26 +140,15 @@ void Service::stop() {
 
 // ----- surfaces -----
 
-bool Service::reserve_upload_bytes(uint64_t bytes) {
-    if (bytes > (uint64_t(config_.max_upload_mb) << 20) - upload_bytes_) return false;
-    upload_bytes_ += bytes;
-    metrics_.upload_bytes = int64_t(upload_bytes_);
-    return true;
-}
-
-void Service::release_upload_bytes(uint64_t bytes) {
-    upload_bytes_ -= std::min(bytes, upload_bytes_);
-    metrics_.upload_bytes = int64_t(upload_bytes_);
-}
-
-void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes) {
+void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes,
+                     UploadOwner owner) {
     ++metrics_.uploads;
     // Into a session: visible to its members only. (Checked at UploadBegin; it may have left.)
     std::string scope = kPublicScope;
     if (!begin.session().empty()) {
         auto it = c->sessions().find(begin.session());
         if (it == c->sessions().end()) {
-            release_upload_bytes(begin.total_bytes());
+            release_upload(owner, begin.total_bytes());
             return c->send_error(v1::Error::NOT_FOUND,
                                  "you are not a member of a session \"" + begin.session() + "\"",
                                  begin.upload_id());
@@ -168,7 +157,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
     }
     c->begin_storing();
     const uint64_t upload_id = begin.upload_id(), upload_bytes = begin.total_bytes();
-    const bool queued = compute(c->id(), [this, c, scope, begin = std::move(begin),
+    const bool queued = compute(c->id(), [this, c, scope, owner, begin = std::move(begin),
                                           bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
@@ -183,7 +172,8 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
                 layout.vertex_count, layout.triangle_count, layout.fields);
             Surface surface = protocol::decode_mesh(bytes, layout);
             const RepairReport repairs = validate(surface);
-            const SurfaceStore::Added added = store_.add(begin.name(), std::move(surface), scope);
+            const SurfaceStore::Added added =
+                store_.add(begin.name(), std::move(surface), scope, owner.token);
             result.set_upload_id(id);
             result.set_surface(added.info.id);
             result.set_triangles(added.info.triangles);
@@ -211,22 +201,23 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             error.set_message("upload " + std::to_string(id) + ": the server failed: " + e.what());
         }
         error.set_request_id(id);
-        asio::post(io_, [this, c, begin, result = std::move(result), error = std::move(error)] {
-            c->end_storing();
-            release_upload_bytes(begin.total_bytes());
-            if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
-            c->send(result);
-            if (!begin.session().empty()) {
-                v1::SetSessionState change;
-                change.set_name(begin.session());
-                change.mutable_view()->set_surface(result.surface());
-                set_state(c, change);
-            }
-        });
+        asio::post(io_,
+                   [this, c, begin, owner, result = std::move(result), error = std::move(error)] {
+                       c->end_storing();
+                       release_upload(owner, begin.total_bytes());
+                       if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
+                       c->send(result);
+                       if (!begin.session().empty()) {
+                           v1::SetSessionState change;
+                           change.set_name(begin.session());
+                           change.mutable_view()->set_surface(result.surface());
+                           set_state(c, change);
+                       }
+                   });
     });
     if (!queued) {
         c->end_storing();
-        release_upload_bytes(upload_bytes);
+        release_upload(owner, upload_bytes);
         c->send_error(v1::Error::RESOURCE_EXHAUSTED,
                       "upload " + std::to_string(upload_id) + ": too many jobs of yours waiting",
                       upload_id);

@@ -10,11 +10,13 @@
 #include "connection.h"
 #include "glb_download.h"
 #include "metrics.h"
+#include "quotas.h"
 #include "reductions.h"
 #include "remembered_results.h"
 #include "scheduler.h"
 #include "sessions.h"
 #include "surface_store.h"
+#include "tokens.h"
 
 #include <boost/asio/any_io_executor.hpp>
 #include <boost/asio/io_context.hpp>
@@ -44,14 +46,18 @@ public:
     std::string metrics_text();
     std::string server_name() const { return "ddsimp-server 0.1.0"; }
 
-    // The budget for uploads in progress, all clients together (--max-upload-mb): false if
-    // `bytes` more do not fit.
-    bool reserve_upload_bytes(uint64_t bytes);
-    void release_upload_bytes(uint64_t bytes);
+    const Tokens& tokens() const { return tokens_; }
+    // Uploads in progress, within the quotas of their token and session and the budget of all
+    // (--max-upload-mb): nothing, or why `bytes` more do not fit.
+    std::optional<std::string> reserve_upload(const UploadOwner& owner, uint64_t bytes) {
+        return quotas_.reserve(owner, bytes);
+    }
+    void release_upload(const UploadOwner& owner, uint64_t bytes) { quotas_.release(owner, bytes); }
 
     // Handlers, called by Connection once the client is authenticated. upload() releases the
-    // bytes' share of the upload budget once they are stored or refused.
-    void upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes);
+    // bytes' reservation once they are stored or refused.
+    void upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::string bytes,
+                UploadOwner owner);
     void request(std::shared_ptr<Connection> c, const v1::Request& request);
     // The client cancelled request `request_id` (it has ended it): its computation stops unless
     // another request or session waits for it.
@@ -109,8 +115,10 @@ private:
 
     boost::asio::io_context& io_;
     Config config_;
+    Tokens tokens_;
     Metrics metrics_;
     SurfaceStore store_;
+    Quotas quotas_;
     ResultCache cache_;
     Reductions reductions_;
     Sessions sessions_;
@@ -128,7 +136,6 @@ private:
     // All downloads take turns with the clients as this one client (connections count from 1).
     static constexpr uint64_t kDownloadsClient = ~uint64_t(0);
     uint64_t next_download_ = 1;
-    uint64_t upload_bytes_ = 0; // reserved by uploads in progress (network thread)
     bool stopping_ = false;
 };
 

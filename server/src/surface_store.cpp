@@ -21,21 +21,30 @@ constexpr const char* kExtension = ".ddsurf";
 constexpr const char* kScopesExtension = ".scopes";
 
 // The scopes file: one line per scope, "SCOPE LABEL" with the public scope as "-" and the label
-// in hex (labels are any bytes a client chose).
-std::string encode_scopes(const std::map<std::string, std::string>& labels) {
+// in hex (labels are any bytes a client chose), and one line "+ NAME" per token that uploaded the
+// surface, the name in hex.
+struct Scopes {
+    std::map<std::string, std::string> labels;
+    std::set<std::string> tokens;
+};
+
+std::string hex(const std::string& bytes) {
     static const char* digits = "0123456789abcdef";
     std::string out;
-    for (const auto& [scope, label] : labels) {
-        out += scope.empty() ? "-" : scope;
-        out += ' ';
-        for (unsigned char ch : label) out += digits[ch >> 4], out += digits[ch & 15];
-        out += '\n';
-    }
+    for (unsigned char ch : bytes) out += digits[ch >> 4], out += digits[ch & 15];
     return out;
 }
 
-std::map<std::string, std::string> decode_scopes(const std::string& text, const fs::path& path) {
-    std::map<std::string, std::string> labels;
+std::string encode_scopes(const Scopes& s) {
+    std::string out;
+    for (const auto& [scope, label] : s.labels)
+        out += (scope.empty() ? "-" : scope) + " " + hex(label) + "\n";
+    for (const std::string& token : s.tokens) out += "+ " + hex(token) + "\n";
+    return out;
+}
+
+Scopes decode_scopes(const std::string& text, const fs::path& path) {
+    Scopes out;
     std::istringstream lines(text);
     for (std::string line; std::getline(lines, line);) {
         const size_t space = line.find(' ');
@@ -47,9 +56,12 @@ std::map<std::string, std::string> decode_scopes(const std::string& text, const 
         for (size_t i = 0; i < hex.size(); i += 2)
             label += char(std::stoi(hex.substr(i, 2), nullptr, 16));
         const std::string scope = line.substr(0, space);
-        labels[scope == "-" ? kPublicScope : scope] = label;
+        if (scope == "+")
+            out.tokens.insert(label);
+        else
+            out.labels[scope == "-" ? kPublicScope : scope] = label;
     }
-    return labels;
+    return out;
 }
 
 } // namespace
@@ -112,14 +124,15 @@ SurfaceStore::SurfaceStore(fs::path dir, size_t memory_bytes)
             }
             fs::path scopes = p;
             scopes.replace_extension(kScopesExtension);
-            std::map<std::string, std::string> labels{{kPublicScope, header.name}}; // before scopes
+            Scopes seen{{{kPublicScope, header.name}}, {}}; // a file from before scopes
             if (fs::exists(scopes)) {
                 std::ifstream in(scopes, std::ios::binary);
-                labels = decode_scopes({std::istreambuf_iterator<char>(in), {}}, scopes);
+                seen = decode_scopes({std::istreambuf_iterator<char>(in), {}}, scopes);
             }
             Entry e;
             e.info = std::move(info);
-            e.labels = std::move(labels);
+            e.labels = std::move(seen.labels);
+            e.tokens = std::move(seen.tokens);
             e.bytes = sizeof(Surface) + header.blob_bytes;
             entries_.emplace(id, std::move(e));
         } catch (const std::exception& e) {
@@ -211,31 +224,37 @@ std::optional<StoredSurface> SurfaceStore::visible(const Entry& e,
 }
 
 void SurfaceStore::write_scopes(const std::string& id,
-                                const std::map<std::string, std::string>& labels) {
-    write_file_atomically(dir_ / (id + kScopesExtension), encode_scopes(labels));
+                                const std::map<std::string, std::string>& labels,
+                                const std::set<std::string>& tokens) {
+    write_file_atomically(dir_ / (id + kScopesExtension), encode_scopes({labels, tokens}));
 }
 
 SurfaceStore::Added SurfaceStore::insert(const std::string& id, const std::string& name,
-                                         Surface surface, const std::string& scope, bool write) {
+                                         Surface surface, const std::string& scope,
+                                         const std::string& token, bool write) {
     const std::set<std::string> seen_by{kPublicScope, scope};
     // Disk writes one at a time: the scopes written are always the union of all added so far.
     std::unique_lock files(files_mutex_, std::defer_lock);
     if (write) files.lock();
     std::map<std::string, std::string> labels;
+    std::set<std::string> tokens;
     bool known = false;
     {
         std::lock_guard lock(mutex_);
         if (auto it = entries_.find(id); it != entries_.end()) {
+            // Already there: it costs nothing more, so nobody is charged for it again.
             if (auto info = visible(it->second, seen_by)) return {*info, true};
             known = true;
             labels = it->second.labels;
+            tokens = it->second.tokens;
         }
     }
     labels.emplace(scope, name);
+    if (!token.empty()) tokens.insert(token);
     if (write) { // (in-memory surfaces are public: never here)
         // Scopes first: a crash between the two writes leaves scopes without a surface (ignored),
         // never a surface without its scopes (which would make it public).
-        write_scopes(id, labels);
+        write_scopes(id, labels, tokens);
         if (!known)
             write_file_atomically(dir_ / (id + kExtension), encode_surface_file(name, surface));
     }
@@ -259,18 +278,19 @@ SurfaceStore::Added SurfaceStore::insert(const std::string& id, const std::strin
         }
     }
     it->second.labels.emplace(scope, name);
+    if (!token.empty()) it->second.tokens.insert(token);
     return {*visible(it->second, {scope}), false};
 }
 
 SurfaceStore::Added SurfaceStore::add(const std::string& name, Surface surface,
-                                      const std::string& scope) {
+                                      const std::string& scope, const std::string& token) {
     const std::string id = protocol::surface_hash(surface);
-    return insert(id, name, std::move(surface), scope, true);
+    return insert(id, name, std::move(surface), scope, token, true);
 }
 
 SurfaceStore::Added SurfaceStore::add_in_memory(const std::string& name, Surface surface) {
     const std::string id = protocol::surface_hash(surface);
-    return insert(id, name, std::move(surface), kPublicScope, false);
+    return insert(id, name, std::move(surface), kPublicScope, "", false);
 }
 
 bool SurfaceStore::share(const std::string& id, const std::set<std::string>& scopes,
@@ -287,14 +307,16 @@ bool SurfaceStore::share(const std::string& id, const std::set<std::string>& sco
 void SurfaceStore::persist_scopes(const std::string& id) {
     std::lock_guard files(files_mutex_);
     std::map<std::string, std::string> labels;
+    std::set<std::string> tokens;
     {
         std::lock_guard lock(mutex_);
         auto it = entries_.find(id);
         if (it == entries_.end() || it->second.labels.count(kPublicScope))
             return; // nothing to keep
         labels = it->second.labels;
+        tokens = it->second.tokens;
     }
-    write_scopes(id, labels);
+    write_scopes(id, labels, tokens);
 }
 
 std::optional<StoredSurface> SurfaceStore::find(const std::string& id,
@@ -315,6 +337,22 @@ std::vector<StoredSurface> SurfaceStore::list(const std::set<std::string>& scope
     std::stable_sort(out.begin(), out.end(),
                      [](const auto& a, const auto& b) { return a.name < b.name; });
     return out;
+}
+
+SurfaceStore::Usage SurfaceStore::usage_of_token(const std::string& token) const {
+    std::lock_guard lock(mutex_);
+    Usage u;
+    for (const auto& [id, e] : entries_)
+        if (e.tokens.count(token)) ++u.surfaces, u.bytes += e.bytes;
+    return u;
+}
+
+SurfaceStore::Usage SurfaceStore::usage_of_scope(const std::string& scope) const {
+    std::lock_guard lock(mutex_);
+    Usage u;
+    for (const auto& [id, e] : entries_)
+        if (e.labels.count(scope)) ++u.surfaces, u.bytes += e.bytes;
+    return u;
 }
 
 size_t SurfaceStore::size() const {

@@ -64,7 +64,9 @@ public:
     };
     // Stores a validated surface in `scope` (durably, before returning): the surface once, and
     // the scope added to those that see it. Throws SurfaceFileError if it cannot be written.
-    Added add(const std::string& name, Surface surface, const std::string& scope = kPublicScope);
+    // `token`: the name of the uploader's token, charged for it (quotas.h); empty: none.
+    Added add(const std::string& name, Surface surface, const std::string& scope = kPublicScope,
+              const std::string& token = "");
     // A public surface kept in memory only (the built-in sample).
     Added add_in_memory(const std::string& name, Surface surface);
     // Lets `scope` see a surface one of `scopes` sees (a member shows it to a session), under
@@ -87,6 +89,14 @@ public:
     size_t size() const;
     const std::filesystem::path& dir() const { return dir_; }
 
+    // What a token uploaded, or a scope sees, for the quotas.
+    struct Usage {
+        size_t surfaces = 0;
+        uint64_t bytes = 0;
+    };
+    Usage usage_of_token(const std::string& token) const;
+    Usage usage_of_scope(const std::string& scope) const;
+
     // For /metrics.
     struct Residency {
         size_t resident = 0, resident_bytes = 0; // held in memory within the bound
@@ -100,6 +110,7 @@ private:
     struct Entry {
         StoredSurface info;                        // name unset: see labels
         std::map<std::string, std::string> labels; // scope -> the surface's label there
+        std::set<std::string> tokens;              // the names of the tokens that uploaded it
         size_t bytes = 0;                          // in memory
         bool pinned = false;                       // in memory only (the sample)
         std::shared_ptr<const Surface> surface;    // resident (held by the store), or null
@@ -113,9 +124,10 @@ private:
     // Reads and checks the file of `id`; throws SurfaceFileError.
     Surface read(const std::string& id) const;
     Added insert(const std::string& id, const std::string& name, Surface surface,
-                 const std::string& scope, bool write);
-    // Writes the scopes file of `id` with `labels` (under files_mutex_).
-    void write_scopes(const std::string& id, const std::map<std::string, std::string>& labels);
+                 const std::string& scope, const std::string& token, bool write);
+    // Writes the scopes file of `id`: its labels and tokens (under files_mutex_).
+    void write_scopes(const std::string& id, const std::map<std::string, std::string>& labels,
+                      const std::set<std::string>& tokens);
     static std::optional<StoredSurface> visible(const Entry& e,
                                                 const std::set<std::string>& scopes);
 

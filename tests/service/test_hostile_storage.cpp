@@ -100,5 +100,133 @@ TEST(HostileStorage, SurfacesBeyondTheMemoryBoundAreReadBackWhenNeeded) {
     EXPECT_EQ(m("ddsimp_surfaces_resident"), 1);
 }
 
+// A small surface of its own for every i: 5,120 triangles, about 130 KB.
+Surface small_numbered(int i) {
+    Surface s = small_surface();
+    for (float& x : s.positions) x *= 1.0f + 0.01f * float(i);
+    return s;
+}
+
+// The UploadBegin of `s` (what upload_frames sends first).
+std::string upload_begin_frame(const Surface& s, uint64_t id, const std::string& session = "") {
+    return upload_frames(s, id, "test", session).front();
+}
+
+v1::SessionState join(RawClient& c, const std::string& name, const std::string& key) {
+    v1::JoinSession j;
+    j.set_name(name);
+    j.set_key(key);
+    c.send(j);
+    return c.expect<v1::SessionState>();
+}
+
+// The error an upload gets instead of its result.
+v1::Error refused_upload(RawClient& c, const Surface& s, uint64_t id,
+                         const std::string& session = "") {
+    c.send_bytes(upload_begin_frame(s, id, session));
+    const v1::Error e = next_error(c);
+    EXPECT_EQ(e.request_id(), id);
+    EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED) << e.message();
+    return e;
+}
+
+bool says(const v1::Error& e, const std::string& what) {
+    return e.message().find(what) != std::string::npos;
+}
+
+// Every token (one per user, --tokens-file) and every session has its quota of stored surfaces
+// and of uploads in progress: what passes it is refused on its UploadBegin with a message that
+// says which quota, while the other users go on. The quotas hold after a restart.
+TEST(HostileStorage, QuotasPerTokenAndSessionRefuseWithAClearError) {
+    const fs::path dir = temp_dir("quotas");
+    fs::create_directories(dir);
+    std::ofstream(dir / "tokens") << "# users\nalice a-secret\nbob b-secret\ncarol c-secret\n";
+    const std::vector<std::string> flags{"--tokens-file",     (dir / "tokens").string(),
+                                         "--quota-surfaces",  "2",
+                                         "--quota-upload-mb", "1",
+                                         "--sample",          ""};
+    auto server = std::make_unique<ServerProcess>(dir / "data", flags);
+    const auto m = [&](const std::string& name) { return metric(server->http_port, name); };
+
+    RawClient alice(server->port), bob(server->port), carol(server->port);
+    alice.hello({"sessions"}, "a-secret");
+    bob.hello({"sessions"}, "b-secret");
+    carol.hello({"sessions"}, "c-secret");
+    join(alice, "lab", "k");
+    join(bob, "lab", "k");
+
+    // Alice's token: two surfaces (one public, one into the session), not three.
+    alice.upload(small_numbered(1), 1);
+    alice.upload(small_numbered(2), 2, "test", "lab");
+    const v1::Error third = refused_upload(alice, small_numbered(3), 3);
+    EXPECT_TRUE(says(third, "your token has 2 stored surfaces")) << third.message();
+    EXPECT_TRUE(says(third, "--quota-surfaces")) << third.message();
+
+    // The session holds Alice's surface and one of Bob's, not two of his.
+    bob.upload(small_numbered(5), 5, "test", "lab");
+    const v1::Error full = refused_upload(bob, small_numbered(6), 6, "lab");
+    EXPECT_TRUE(says(full, "session \"lab\" has 2 stored surfaces")) << full.message();
+    bob.upload(small_numbered(6), 7); // public: only his token counts
+
+    // Uploads in progress: one of 1 MiB's worth, not two, for Carol; the others are not held up.
+    const Surface medium = with_test_fields(icosphere(5)); // about 0.5 MiB
+    carol.send_bytes(upload_begin_frame(medium, 1));
+    const v1::Error second = refused_upload(carol, medium, 2);
+    EXPECT_TRUE(says(second, "your token has 0.5 MiB of uploads in progress")) << second.message();
+    EXPECT_TRUE(says(second, "--quota-upload-mb")) << second.message();
+    EXPECT_EQ(m("ddsimp_upload_bytes"),
+              double(protocol::encode_mesh(medium, v1::RAW).bytes.size()));
+    EXPECT_EQ(m("ddsimp_quota_refusals_total"), 3);
+
+    // After a restart every token's surfaces are still its own.
+    server = std::make_unique<ServerProcess>(dir / "data", flags);
+    RawClient again(server->port);
+    again.hello({}, "a-secret");
+    EXPECT_TRUE(says(refused_upload(again, small_numbered(9), 1), "your token has 2 stored"));
+}
+
+// An upload that receives no chunk for --upload-timeout expires, however often its client pings,
+// and gives back what it reserved: the budget it held is another client's again.
+TEST(HostileStorage, AnIdleUploadExpiresWhilePingsContinue) {
+    ServerProcess server(temp_dir("idle-upload"),
+                         {"--upload-timeout", "0.5", "--max-upload-mb", "1", "--sample", ""});
+    const Surface medium = with_test_fields(icosphere(5)); // about 0.5 MiB: one fits, not two
+    RawClient holder(server.port), other(server.port);
+    holder.hello({});
+    other.hello({});
+    const std::vector<std::string> frames = upload_frames(medium, 1);
+    holder.send_bytes(frames[0] + frames[1]); // UploadBegin and one chunk, then only pings
+
+    const v1::Error busy = refused_upload(other, medium, 1);
+    EXPECT_TRUE(says(busy, "for uploads in progress")) << busy.message();
+
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<v1::Error> expired;
+    size_t pongs = 0;
+    for (uint64_t nonce = 1;
+         !expired && std::chrono::steady_clock::now() - start < std::chrono::seconds(30); ++nonce) {
+        v1::Ping ping;
+        ping.set_nonce(nonce);
+        holder.send(ping);
+        for (;;) {
+            const std::optional<protocol::Frame> f = holder.next();
+            ASSERT_TRUE(f) << "closed while pinging";
+            if (f->type == v1::ERROR) expired = protocol::parse_payload<v1::Error>(*f);
+            if (f->type == v1::PONG) break;
+        }
+        if (!expired) ++pongs, std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    ASSERT_TRUE(expired) << "the upload never expired";
+    EXPECT_GE(pongs, 3u); // it pinged all along
+    EXPECT_EQ(expired->code(), v1::Error::CANCELLED);
+    EXPECT_EQ(expired->request_id(), 1u);
+    EXPECT_TRUE(says(*expired, "no chunk for 0.5 s (--upload-timeout)")) << expired->message();
+    EXPECT_EQ(metric(server.http_port, "ddsimp_upload_bytes"), 0);
+    // The other client's upload fits now; the expired one's chunks are refused.
+    EXPECT_EQ(other.upload(medium, 2).triangles(), medium.triangle_count());
+    holder.send_bytes(frames[2]);
+    EXPECT_TRUE(says(next_error(holder), "was not begun"));
+}
+
 } // namespace
 } // namespace ddsimp::test
