@@ -119,9 +119,12 @@ SurfaceFile read_surface_file(const std::filesystem::path& path) {
 SurfaceFileHeader read_surface_header(const std::filesystem::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw SurfaceFileError(system_error("cannot open", path));
-    const auto read = [&](size_t n) {
-        std::string out(n, '\0');
-        in.read(out.data(), std::streamsize(n));
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw SurfaceFileError(path.string() + ": " + ec.message());
+    const auto read = [&](size_t n) { // never more than the file has, whatever a header says
+        std::string out(std::min<uintmax_t>(n, size), '\0');
+        in.read(out.data(), std::streamsize(out.size()));
         out.resize(size_t(in.gcount()));
         return out;
     };
@@ -133,8 +136,8 @@ SurfaceFileHeader read_surface_header(const std::filesystem::path& path) {
     out.triangles = h.triangle_count();
     out.ranges = parsed.ranges;
     for (const v1::FieldInfo& f : h.fields())
-        out.fields.push_back({f.name(), int(f.components()), protocol::field_spec_of(f).kind,
-                              f.min(), f.max()});
+        out.fields.push_back(
+            {f.name(), int(f.components()), protocol::field_spec_of(f).kind, f.min(), f.max()});
     try {
         const protocol::BlobLayout layout = layout_of(h);
         std::vector<protocol::FieldSpec> fields;
@@ -143,9 +146,6 @@ SurfaceFileHeader read_surface_header(const std::filesystem::path& path) {
     } catch (const protocol::BlobError& e) {
         throw SurfaceFileError(path.string() + ": " + e.what());
     }
-    std::error_code ec;
-    const uintmax_t size = std::filesystem::file_size(path, ec);
-    if (ec) throw SurfaceFileError(path.string() + ": " + ec.message());
     if (size != parsed.body + out.blob_bytes)
         throw SurfaceFileError(path.string() + ": " + std::to_string(size) +
                                " bytes, but its header announces " +
