@@ -27,12 +27,21 @@ Surface whole_surface(RawClient& c, const std::string& surface, uint64_t id) {
     }
 }
 
-// 32 surfaces of 2.1 MB into a server that keeps 5 MiB of them: the others are evicted (the least
-// recently used first) and read back from the data directory when a request needs them, with the
-// same bytes; the server's memory does not grow with what it stores. After a restart nothing but
-// the index is in memory, and the lists say what they said before.
+// 32 surfaces (12 under a sanitizer) of 2.1 MB into a server that keeps 5 MiB of them: the others
+// are evicted (the least recently used first) and read back from the data directory when a request
+// needs them, with the same bytes; the server's memory does not grow with what it stores. After a
+// restart nothing but the index is in memory, and the lists say what they said before.
 TEST(HostileStorage, SurfacesBeyondTheMemoryBoundAreReadBackWhenNeeded) {
+#if defined(DDSIMP_TEST_ASAN) || defined(DDSIMP_TEST_TSAN)
+    // A sanitizer's allowance is larger than what any number of these uploads would store, so
+    // the memory check means something in release builds only: fewer uploads keep the run short
+    // (and ASan's quarantine of freed buffers within its allowance).
+    constexpr int kSurfaces = 12;
+    constexpr bool kCheckable = false;
+#else
     constexpr int kSurfaces = 32;
+    constexpr bool kCheckable = true;
+#endif
     constexpr size_t kBoundMiB = 5;
     const fs::path dir = temp_dir("surfaces-bound");
     const std::vector<std::string> flags{"--surfaces-mb", std::to_string(kBoundMiB),
@@ -65,7 +74,7 @@ TEST(HostileStorage, SurfacesBeyondTheMemoryBoundAreReadBackWhenNeeded) {
     // validated and written (four copies of a surface), never by what is stored.
     const size_t stored = size_t(kSurfaces) * surface_bytes;
     const size_t bound = kBoundMiB * kMiB + 4 * surface_bytes + kAllocatorSlack;
-    ASSERT_LT(bound, stored) << "the check would not notice every surface kept";
+    if (kCheckable) ASSERT_LT(bound, stored) << "the check would not notice every surface kept";
     const size_t allowance = with_sanitizer_memory(bound);
     const size_t growth = server->status_bytes("VmHWM") - peak_before;
     EXPECT_LE(growth, allowance);
