@@ -18,8 +18,8 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
         .add_option("-o,--output", args.output, "Output surface (.vtk .vtp .ply .obj .off .glb)")
         ->required();
     command.add_option("--colour-by", args.colour_by,
-                       ".glb: the field shown as vertex colours (default: the first scalar that "
-                       "varies)");
+                       ".glb: the field shown as vertex colours (default: the first continuous "
+                       "scalar that varies)");
     command.add_flag("--meshopt", args.meshopt, ".glb: compress with EXT_meshopt_compression");
     command.add_option("--alpha", args.alpha, "Weight of curvature vs data gradient, in [0, 1]")
         ->check(CLI::Range(0.0, 1.0))

@@ -265,10 +265,13 @@ const Field* glb_colour_field(const Surface& surface, const std::string& request
         }
         return f;
     }
-    for (const Field& f : surface.fields) {
-        const ColourRange r = range_of(f.values);
-        if (f.components == 1 && r.max > r.min) return &f;
-    }
+    // A label's values are ids, whose colours would say nothing: a continuous scalar first.
+    for (const bool continuous_only : {true, false})
+        for (const Field& f : surface.fields) {
+            if (continuous_only && f.kind != FieldKind::Continuous) continue;
+            const ColourRange r = range_of(f.values);
+            if (f.components == 1 && r.max > r.min) return &f;
+        }
     return surface.fields.empty() ? nullptr : &surface.fields.front();
 }
 

@@ -3,7 +3,7 @@
 //   alpha=0.5  keep=0.5  strategy=edge|vertex  placement=least-error|midpoint|volume
 //   terms=quadrics|paper  fields=A,B (the fields that drive the data term; default: all)
 //   feature-angle=DEGREES (in (0, 180]; 180, the default: no feature edges)
-//   field=NAME (the colours; default: the first scalar that varies)  meshopt=1
+//   field=NAME (the colours; default: the first continuous scalar that varies)  meshopt=1
 //   token=T (or the header "Authorization: Bearer T")  session=NAME&key=K (a session's surfaces)
 // The options not named are a Request's defaults (protocol/reduction_options.h), so a download
 // and a request with the same values share one record and give the same level. The level is

@@ -116,6 +116,17 @@ TEST(Glb, ColoursAreViridisOfTheFirstVaryingScalar) {
     EXPECT_NEAR(rgb[3 * 2 + 1], linear(0xe7), 1e-6);
 }
 
+TEST(Glb, ALabelBeforeTheFirstContinuousScalarDoesNotColourByDefault) {
+    Surface s = grid();
+    ddsimp::Field id{"GlobalNodeId", 1, {}};
+    for (int v = 0; v < 6; ++v) id.values.push_back(float(100 + v));
+    id.kind = ddsimp::FieldKind::Label;
+    s.fields.insert(s.fields.begin(), id);
+    EXPECT_EQ(Glb(write_glb(s)).doc["meshes"][0]["extras"]["colour_field"], "t");
+    s.fields.erase(s.fields.begin() + 1); // without "t": the label is the only varying scalar
+    EXPECT_EQ(Glb(write_glb(s)).doc["meshes"][0]["extras"]["colour_field"], "GlobalNodeId");
+}
+
 TEST(Glb, AVectorFieldColoursByItsLengthOverTheRangeAsked) {
     GlbOptions options = coloured_by("wind speed");
     options.colour_range = ddsimp::protocol::ColourRange{0, 25};

@@ -48,7 +48,7 @@ using Notes = std::vector<std::string>;
 // repair; see ddsimp::validate).
 Surface read_surface(const std::string& path, Notes* notes = nullptr);
 
-// What only a .glb takes: the field shown as colours ("" : the first scalar that varies) and
+// What only a .glb takes: the field shown as colours ("" : the first continuous scalar that varies) and
 // EXT_meshopt_compression.
 struct WriteOptions {
     std::string colour_field;

@@ -34,8 +34,8 @@ struct ColourRange {
 };
 
 struct GlbOptions {
-    // The field shown as vertex colours. Empty: the first scalar field whose values vary, else
-    // the first field; a surface without fields is grey.
+    // The field shown as vertex colours. Empty: the first continuous scalar field whose values
+    // vary, else the first scalar that varies, else the first field; without fields, grey.
     std::string colour_field;
     // The values mapped to viridis' ends; default: the range of the values written.
     std::optional<ColourRange> colour_range;
