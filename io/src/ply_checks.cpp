@@ -1,5 +1,6 @@
 #include "ply_checks.h"
 
+#include "ply_types.h"
 #include "text_scanner.h"
 
 #include <cstdint>
@@ -11,25 +12,6 @@
 namespace ddsimp::io {
 
 namespace {
-
-struct PlyType {
-    int size = 0;
-    bool is_float = false;
-    bool is_signed = false;
-};
-
-// The types OpenMesh's get_property_type knows (the PLY names and their sized aliases).
-std::optional<PlyType> ply_type(std::string_view name) {
-    if (name == "char" || name == "int8") return PlyType{1, false, true};
-    if (name == "uchar" || name == "uint8") return PlyType{1, false, false};
-    if (name == "short" || name == "int16") return PlyType{2, false, true};
-    if (name == "ushort" || name == "uint16") return PlyType{2, false, false};
-    if (name == "int" || name == "int32") return PlyType{4, false, true};
-    if (name == "uint" || name == "uint32") return PlyType{4, false, false};
-    if (name == "float" || name == "float32") return PlyType{4, true, true};
-    if (name == "double" || name == "float64") return PlyType{8, true, true};
-    return std::nullopt;
-}
 
 // What OpenMesh does with a property's values (PLYReader.cc, read_ascii and read_binary).
 enum class Use {

@@ -1,6 +1,7 @@
 #include "ply_reader.h"
 
 #include "field_kinds.h"
+#include "ply_types.h"
 #include "polygons.h"
 #include "text_scanner.h"
 
@@ -19,29 +20,11 @@ namespace ddsimp::io {
 
 namespace {
 
-struct ValueType {
-    int size = 0;
-    bool is_float = false;
-    bool is_signed = false;
-};
-
-std::optional<ValueType> value_type(std::string_view name) {
-    if (name == "char" || name == "int8") return ValueType{1, false, true};
-    if (name == "uchar" || name == "uint8") return ValueType{1, false, false};
-    if (name == "short" || name == "int16") return ValueType{2, false, true};
-    if (name == "ushort" || name == "uint16") return ValueType{2, false, false};
-    if (name == "int" || name == "int32") return ValueType{4, false, true};
-    if (name == "uint" || name == "uint32") return ValueType{4, false, false};
-    if (name == "float" || name == "float32") return ValueType{4, true, true};
-    if (name == "double" || name == "float64") return ValueType{8, true, true};
-    return std::nullopt;
-}
-
 struct Property {
     std::string name;
-    ValueType type;
+    PlyType type;
     bool list = false;
-    ValueType count_type;
+    PlyType count_type;
 };
 
 struct Element {
@@ -104,8 +87,8 @@ std::optional<Header> read_header(std::string_view file) {
             Property p;
             p.list = words.size() == 5 && words[1] == "list";
             if (!p.list && words.size() != 3) return std::nullopt;
-            const auto type = value_type(words[p.list ? 3 : 1]);
-            const auto count = p.list ? value_type(words[2]) : type;
+            const auto type = ply_type(words[p.list ? 3 : 1]);
+            const auto count = p.list ? ply_type(words[2]) : type;
             if (!type || !count || (p.list && count->is_float)) return std::nullopt;
             p.name = std::string(words.back());
             p.type = *type;
@@ -146,7 +129,7 @@ public:
 
     // The next value of the item as a double; nullopt if the item or the file ends first, or
     // if an ASCII word is not a number.
-    std::optional<double> next(const ValueType& type) {
+    std::optional<double> next(const PlyType& type) {
         if (header_.ascii) {
             if (next_word_ == line_.size()) return std::nullopt;
             const std::string_view word = line_[next_word_++];
