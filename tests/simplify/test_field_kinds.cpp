@@ -103,7 +103,8 @@ TEST(FieldKinds, EdgeCollapseKeepsDirectionsUnitLength) {
     Options o;
     o.keep_fraction = 0.05;
     o.gradient_fields = {"pressure"};
-    const Field& averaged = simplify(continuous, o).surface.fields[2];
+    const Result result = simplify(continuous, o);
+    const Field& averaged = result.surface.fields[2];
     double shortest = 1;
     for (size_t v = 0; v < averaged.values.size() / 3; ++v)
         shortest = std::min(
