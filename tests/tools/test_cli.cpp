@@ -1,4 +1,5 @@
 // The ddsimp command line, run as a separate process: exit statuses, one-line errors, --json.
+#include "file_test_support.h"
 #include "tools_test_support.h"
 
 #include "ddsimp/io/surface_io.h"
@@ -61,10 +62,6 @@ void expect_one_line_error(const CliRun& run, int status, std::vector<std::strin
     for (const std::string& piece : expected)
         EXPECT_NE(run.err.find(piece), std::string::npos)
             << "missing '" << piece << "' in " << run.err;
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
 }
 
 } // namespace

@@ -1,5 +1,6 @@
 // Files as users have them: every variant a format allows is generated here from one small
 // quad grid (not a hand-edited copy), read back, and compared with the grid it was made from.
+#include "file_test_support.h"
 #include "tools_test_support.h"
 
 #include "ddsimp/io/surface_io.h"
@@ -41,24 +42,6 @@ struct QuadGrid {
         return {j * w + i, j * w + i + 1, (j + 1) * w + i + 1, (j + 1) * w + i};
     }
 };
-
-std::string file_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-}
-
-template <class F> std::string io_error_of(F&& action) {
-    try {
-        action();
-    } catch (const io::IoError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;

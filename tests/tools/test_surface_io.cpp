@@ -1,4 +1,5 @@
 // read_surface / write_surface: round trips through every writable format, and the errors.
+#include "file_test_support.h"
 #include "tools_test_support.h"
 
 #include "ddsimp/io/surface_io.h"
@@ -10,25 +11,6 @@ using namespace ddsimp;
 using namespace ddsimp::tools_test;
 
 namespace {
-
-std::string file_bytes(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_text(const std::string& path, const std::string& text) {
-    std::ofstream(path, std::ios::binary) << text;
-}
-
-// The message of the IoError that `read` throws ("" if none is thrown).
-template <class F> std::string io_error_of(F&& action) {
-    try {
-        action();
-    } catch (const io::IoError& e) {
-        return e.what();
-    }
-    return "";
-}
 
 bool holds_fields(const std::string& extension) {
     return extension == ".vtk" || extension == ".vtp" || extension == ".ply";
