@@ -1,5 +1,7 @@
 #include "peers.h"
 
+#include "meshopt_js_peer.h"
+
 #include "ddsimp/io/vtk_messages.h" // io/, from the ddsimp_io target
 #include "ddsimp/io/vtk_surface.h"
 
@@ -24,11 +26,6 @@
 
 namespace ddsimp::report {
 
-namespace {
-
-// The surface made of `triangles` (indices of `input`'s vertices): the vertices they use, in
-// order of first use, with every field's values copied. For the peers that keep a subset of the
-// input's vertices in place (meshopt, DecimatePro, OpenMesh's half-edge collapses).
 Surface subset_of(const Surface& input, const std::vector<uint32_t>& triangles) {
     Surface out;
     std::unordered_map<uint32_t, uint32_t> new_index;
@@ -52,6 +49,8 @@ Surface subset_of(const Surface& input, const std::vector<uint32_t>& triangles) 
     }
     return out;
 }
+
+namespace {
 
 PeerOutput run_ddsimp(const Surface& input, const PeerRequest& request, Strategy strategy) {
     Options options;
@@ -224,8 +223,9 @@ PeerOutput run_openmesh(const Surface& input, const PeerRequest& request) {
 } // namespace
 
 const std::vector<std::string>& peer_names() {
-    static const std::vector<std::string> names = {"ddsimp-edge", "ddsimp-vertex",   "meshopt",
-                                                   "vtk-quadric", "vtk-decimatepro", "openmesh"};
+    static const std::vector<std::string> names = {
+        "ddsimp-edge", "ddsimp-vertex",      "meshopt",       "vtk-quadric", "vtk-decimatepro",
+        "openmesh",    "meshopt-attributes", "meshopt-update"};
     return names;
 }
 
@@ -236,6 +236,9 @@ PeerOutput run_peer(const std::string& peer, const Surface& input, const PeerReq
     if (peer == "vtk-quadric") return run_vtk_quadric(input, request);
     if (peer == "vtk-decimatepro") return run_vtk_decimatepro(input, request);
     if (peer == "openmesh") return run_openmesh(input, request);
+    if (peer == "meshopt-attributes")
+        return run_meshopt_js(input, request, MeshoptJsMode::Attributes);
+    if (peer == "meshopt-update") return run_meshopt_js(input, request, MeshoptJsMode::Update);
     throw std::invalid_argument("unknown peer '" + peer + "'");
 }
 

@@ -6,11 +6,13 @@
 
 For every surface in --surfaces, every level and every simplifier (ddsimp edge collapse and vertex
 removal at each alpha, meshoptimizer, vtkQuadricDecimation with attributes, vtkDecimatePro with
-the topology preserved, OpenMesh's Decimater), `ddsimp_report reduce` runs the reduction in a
-fresh process and prints its measurements. This script gathers them into results.csv, writes
+the topology preserved, OpenMesh's Decimater, and meshoptimizer's attribute-aware simplifiers from
+npm at each attribute weight), `ddsimp_report reduce` runs the reduction in a fresh process and
+prints its measurements. This script gathers them into results.csv, writes
 report.md with the tables and the goals checked, and the plots; with --scaling it times the
 simplifiers on surfaces of growing size (scaling.csv, time-vs-size.png). Rendered images come from
-render.py (run under Xvfb by run.sh). Needs python3-matplotlib.
+render.py (run under Xvfb by run.sh). Needs python3-matplotlib; the attribute-aware peers need node
+and `npm ci` in bench/report (run.sh does it), else they are left out and the report says why.
 With --baseline (the results.csv of an earlier report) the goals are also counted on it, before
 and after, for the section that says what a library change gained; --notes adds a Markdown file
 (what was changed) to that section.
@@ -28,18 +30,16 @@ import subprocess
 import sys
 import time
 
+from goals import (DDSIMP, FLOAT_NOISE, GOAL_LEVEL, GOAL_LEVELS, HAUSDORFF_GOAL,
+                   NODE_HAUSDORFF_FILTER, NODE_PEERS, PEERS, RENDER_SURFACE, WEIGHTS, check_goals,
+                   fmt, goal_counts, label, losses_text, node_peer_choices, node_peer_text)
+
 ALPHAS = [0.0, 0.5, 1.0]
 LEVELS = [0.5, 0.25, 0.1, 0.05]
-PEERS = ["meshopt", "vtk-quadric", "vtk-decimatepro", "openmesh"]
-DDSIMP = ["ddsimp-edge", "ddsimp-vertex"]
-GOAL_LEVEL = 0.1
-RENDER_SURFACE = "earth"  # default of --render-surface: its reductions at GOAL_LEVEL are drawn
-HAUSDORFF_GOAL = 1.5  # alpha = 1: within this factor of the best peer
-FLOAT_NOISE = 1e-6  # relative distances below this are float rounding, not error
-
 COLUMNS = [
-    "surface", "simplifier", "alpha", "keep", "status", "message", "triangles_in", "target",
-    "triangles_out", "triangles_seen", "seconds", "cpu_seconds", "peak_rss_mb", "call_rss_mb",
+    "surface", "simplifier", "alpha", "weight", "keep", "status", "message", "triangles_in",
+    "target", "triangles_out", "triangles_seen", "seconds", "cpu_seconds", "runtime",
+    "peak_rss_mb", "call_rss_mb",
     "geometric_rms", "geometric_hausdorff", "data_rms", "data_max", "fields_lost", "topology_kept",
     "euler_in", "euler_out", "boundary_loops_in", "boundary_loops_out", "components_in",
     "components_out", "nonmanifold_edges_in", "nonmanifold_edges_out",
@@ -48,16 +48,44 @@ SCALING_COLUMNS = ["surface", "simplifier", "alpha", "triangles_in", "target", "
                    "status", "message", "repetitions", "median_cpu_seconds", "peak_rss_mb"]
 
 
-def configurations():
-    """(simplifier, alpha) pairs; alpha is None for the peers (they have none)."""
-    return [(d, a) for d in DDSIMP for a in ALPHAS] + [(p, None) for p in PEERS]
+def configurations(node_peers=True):
+    """(simplifier, alpha, weight) triples; alpha is None for the peers (they have none), weight
+    None for all but the node peers."""
+    out = [(d, a, None) for d in DDSIMP for a in ALPHAS] + [(p, None, None) for p in PEERS]
+    if node_peers:
+        out += [(p, None, w) for p in NODE_PEERS for w in WEIGHTS]
+    return out
 
 
-def run_one(tool, surface, simplifier, alpha, keep, timeout, output=None, compare=True):
+def node_peers_missing():
+    """Why the node peers cannot run here, or None."""
+    if not shutil.which("node"):
+        return "node is not installed (Debian's nodejs)"
+    if not os.path.exists(os.path.join(HERE, "node_modules", "meshoptimizer", "package.json")):
+        return ("the npm package meshoptimizer is not installed in bench/report/node_modules "
+                "(`npm ci` in bench/report installs it; bench/report/run.sh does)")
+    return None
+
+
+def node_peers_version():
+    """'meshoptimizer 1.3.0 (npm) under node v20.x', for the report."""
+    with open(os.path.join(HERE, "node_modules", "meshoptimizer", "package.json")) as f:
+        version = json.load(f)["version"]
+    node = subprocess.run(["node", "--version"], capture_output=True, text=True).stdout.strip()
+    return f"meshoptimizer {version} (npm, WebAssembly) under node {node}"
+
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def run_one(tool, surface, simplifier, alpha, keep, timeout, output=None, compare=True,
+            weight=None):
     """One reduction in its own process; a dict of its measurements (status says what happened)."""
     cmd = [tool, "reduce", surface, "--peer", simplifier, "--keep", str(keep)]
     if alpha is not None:
         cmd += ["--alpha", str(alpha)]
+    if weight is not None:
+        cmd += ["--weight", str(weight)]
     if output:
         cmd += ["-o", output]
     if not compare:
@@ -74,17 +102,18 @@ def run_one(tool, surface, simplifier, alpha, keep, timeout, output=None, compar
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def row_of(surface, simplifier, alpha, keep, r):
+def row_of(surface, simplifier, alpha, keep, r, weight=None):
     t_in, t_out = r.get("topology_in", {}), r.get("topology_out", {})
     mb = lambda key: r[key] / 2**20 if key in r else None
     return {
         "surface": surface, "simplifier": simplifier,
-        "alpha": "" if alpha is None else alpha, "keep": keep,
+        "alpha": "" if alpha is None else alpha, "weight": "" if weight is None else float(weight),
+        "keep": keep,
         "status": r.get("status"), "message": r.get("message", ""),
         "triangles_in": r.get("triangles_in"), "target": r.get("target"),
         "triangles_out": r.get("triangles_out"), "triangles_seen": r.get("triangles_seen"),
         "seconds": r.get("seconds"), "cpu_seconds": r.get("cpu_seconds"),
-        "peak_rss_mb": mb("peak_rss_bytes"), "call_rss_mb": mb("call_rss_bytes"),
+        "runtime": r.get("runtime", ""), "peak_rss_mb": mb("peak_rss_bytes"), "call_rss_mb": mb("call_rss_bytes"),
         "geometric_rms": r.get("geometric_rms"), "geometric_hausdorff": r.get("geometric_hausdorff"),
         "data_rms": r.get("data_rms"), "data_max": r.get("data_max"),
         "fields_lost": " ".join(r.get("fields_lost", [])),
@@ -98,50 +127,6 @@ def row_of(surface, simplifier, alpha, keep, r):
     }
 
 
-def label(row):
-    a = row["alpha"]
-    return row["simplifier"] if a in ("", None) else f"{row['simplifier']} α={float(a):g}"
-
-
-def fmt(x, digits=4):
-    if x is None or x == "":
-        return "—"
-    if isinstance(x, float):
-        return f"{x:.{digits}g}" if abs(x) < 1e4 else f"{x:,.0f}"
-    return f"{x:,}" if isinstance(x, int) else str(x)
-
-
-def counts(row):
-    """Usable for comparison: it ran, reached its target, and its errors were measured."""
-    return row["status"] == "ok" and row["data_rms"] is not None
-
-
-# --- goals ----------------------------------------------------------------------------------
-
-def check_goals(rows):
-    """Per surface: the data-error goal (alpha = 0) and the Hausdorff goal (alpha = 1) at 10%."""
-    out = []
-    for surface in sorted({r["surface"] for r in rows}):
-        at = [r for r in rows if r["surface"] == surface and r["keep"] == GOAL_LEVEL]
-        peers = [r for r in at if r["simplifier"] in PEERS]
-        usable = [p for p in peers if counts(p)]
-        best_data = min(usable, key=lambda p: p["data_rms"], default=None)
-        best_hd = min(usable, key=lambda p: p["geometric_hausdorff"], default=None)
-        for strategy in DDSIMP:
-            d0 = next((r for r in at if r["simplifier"] == strategy and r["alpha"] == 0.0), None)
-            d1 = next((r for r in at if r["simplifier"] == strategy and r["alpha"] == 1.0), None)
-            g = {"surface": surface, "strategy": strategy, "d0": d0, "d1": d1,
-                 "best_data": best_data, "best_hd": best_hd,
-                 "not_counted": [p for p in peers if not counts(p)]}
-            g["data_ok"] = bool(d0 and counts(d0) and d0["topology_kept"] and
-                                all(d0["data_rms"] < p["data_rms"] for p in usable))
-            # Distances below FLOAT_NOISE (of the diagonal) are rounding: a plane stays a plane.
-            g["hd_ok"] = bool(d1 and counts(d1) and (best_hd is None or d1["geometric_hausdorff"]
-                              <= HAUSDORFF_GOAL * best_hd["geometric_hausdorff"] + FLOAT_NOISE))
-            out.append(g)
-    return out
-
-
 def load_rows(path):
     """The rows of an earlier results.csv, typed like row_of's."""
     rows = []
@@ -149,18 +134,10 @@ def load_rows(path):
         for k in ("keep", "data_rms", "geometric_hausdorff", "data_max", "geometric_rms"):
             r[k] = float(r[k]) if r[k] not in ("", None) else None
         r["alpha"] = float(r["alpha"]) if r["alpha"] not in ("", None) else ""
+        r["weight"] = float(r["weight"]) if r.get("weight") not in ("", None) else ""
         r["topology_kept"] = r["topology_kept"] == "True"
         rows.append(r)
     return rows
-
-
-def goal_counts(goals):
-    """(data goals met, Hausdorff goals met, pairs) over both strategies, and per strategy."""
-    out = {"all": (sum(g["data_ok"] for g in goals), sum(g["hd_ok"] for g in goals), len(goals))}
-    for strategy in DDSIMP:
-        gs = [g for g in goals if g["strategy"] == strategy]
-        out[strategy] = (sum(g["data_ok"] for g in gs), sum(g["hd_ok"] for g in gs), len(gs))
-    return out
 
 
 # --- plots ------------------------------------------------------------------------------------
@@ -175,15 +152,22 @@ def plot_data_error(rows, out_dir, surfaces):
     fig, axes = plt.subplots(nrows, cols, figsize=(4 * cols, 3.2 * nrows), squeeze=False)
     styles = {"ddsimp-edge": ("tab:blue", "o"), "ddsimp-vertex": ("tab:orange", "s"),
               "meshopt": ("tab:green", "^"), "vtk-quadric": ("tab:red", "v"),
-              "vtk-decimatepro": ("tab:purple", "D"), "openmesh": ("tab:brown", "x")}
+              "vtk-decimatepro": ("tab:purple", "D"), "openmesh": ("tab:brown", "x"),
+              "meshopt-attributes": ("tab:olive", "<"), "meshopt-update": ("tab:cyan", ">")}
+    choices = node_peer_choices(rows)
     for ax, surface in zip(axes.flat, surfaces):
-        for simplifier, alpha in configurations():
-            if alpha not in (None, 0.0):
-                continue  # the data-error plot shows ddsimp at alpha = 0 (data only)
-            pts = sorted((r["triangles_out"], r["data_rms"]) for r in rows
-                         if r["surface"] == surface and r["simplifier"] == simplifier
-                         and (alpha is None or r["alpha"] == alpha) and r["data_rms"] is not None
-                         and r["triangles_out"])
+        for simplifier, alpha, weight in configurations():
+            if alpha not in (None, 0.0) or weight not in (None, WEIGHTS[0]):
+                continue  # ddsimp at alpha = 0 (data only); a node peer once, at its chosen weight
+            if simplifier in NODE_PEERS:
+                chosen = [c["chosen"] for (s, _, p), c in choices.items()
+                          if s == surface and p == simplifier and c["chosen"]]
+                pts = sorted((r["triangles_out"], r["data_rms"]) for r in chosen)
+            else:
+                pts = sorted((r["triangles_out"], r["data_rms"]) for r in rows
+                             if r["surface"] == surface and r["simplifier"] == simplifier
+                             and (alpha is None or r["alpha"] == alpha)
+                             and r["data_rms"] is not None and r["triangles_out"])
             if not pts:
                 continue
             colour, marker = styles[simplifier]
@@ -200,7 +184,7 @@ def plot_data_error(rows, out_dir, surfaces):
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
     handles, labels = axes.flat[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=6, fontsize=8)
+    fig.legend(handles, labels, loc="lower center", ncol=8, fontsize=8)
     fig.tight_layout(rect=(0, 0.04, 1, 1))
     path = os.path.join(out_dir, "data-error-vs-triangles.png")
     fig.savefig(path, dpi=70)
@@ -235,7 +219,7 @@ def plot_scaling(scaling, out_dir):
 # --- the report -------------------------------------------------------------------------------
 
 def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed, baseline=None,
-                 notes=None):
+                 notes=None, node_note=""):
     commit = os.environ.get("DDSIMP_REPORT_COMMIT") or subprocess.run(
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
         cwd=os.path.dirname(os.path.abspath(__file__))).stdout.strip()
@@ -260,6 +244,19 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
              "loops and components equal to the input's, no new non-manifold edge, no degenerate "
              "or duplicate triangle. A run counts only if its status is `ok` (it reached the "
              "target within 2% and reported no error); the others are listed, not hidden.\n")
+    L.append(f"meshoptimizer's attribute-aware simplifiers: {node_note}. `meshopt-attributes` "
+             "(simplifyWithAttributes) keeps a subset of the input's vertices, as vertex removal "
+             "does; `meshopt-update` (simplifyWithUpdate) moves positions and data to their "
+             "least-error values, as edge collapse does, and its moved data values are the "
+             "output's. Their attributes are the continuous fields, each scaled by its range as "
+             "the data error is measured (a vector field's components by the diagonal of their "
+             "bounding box), every component with the same weight w, swept over "
+             f"{', '.join(map(str, WEIGHTS))}; no vertex lock, no flags, no error bound. Of the "
+             "weights, the one that counts at a level has the least data RMS among those whose "
+             f"Hausdorff distance is at most {NODE_HAUSDORFF_FILTER:g}× ddsimp's at α = 0 (the "
+             "better strategy's); for the Hausdorff goal the least Hausdorff over the weights "
+             "counts. Their time is the WebAssembly call's as node measures it (marked wasm), "
+             "their memory node's peak.\n")
     if RUNS["reused"]:
         L.append(f"{RUNS['reused']} of {RUNS['all']} results were read from the cache of earlier "
                  "invocations (`--resume`, `OUT/runs`); the time above is the sum over the invocations "
@@ -270,7 +267,7 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
             L.append(open(notes).read().strip() + "\n")
         if baseline is not None:
             before, after = goal_counts(check_goals(baseline)), goal_counts(goals)
-            L.append("| goal at 10% | before | after |")
+            L.append("| goal at 10% and 5% | before | after |")
             L.append("|---|---|---|")
             for key, name in [("all", "both strategies"), ("ddsimp-edge", "edge collapse"),
                               ("ddsimp-vertex", "vertex removal")]:
@@ -281,35 +278,45 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
                          f"{b[1]} of {b[2]} | {a[1]} of {a[2]} |")
             L.append("")
 
-    L.append("## Goals at 10% of the triangles\n")
-    L.append("| surface | strategy | data RMS at α=0 | best peer (data RMS) | data goal | "
+    levels = sorted({g["level"] for g in goals}, reverse=True)
+    L.append(f"## Goals at {' and '.join(f'{l:.0%}' for l in levels)} of the triangles\n")
+    L.append("| surface | level | strategy | data RMS at α=0 | best peer (data RMS) | data goal | "
              "topology | Hausdorff at α=1 | best peer (Hausdorff) | ratio | Hausdorff goal | "
              "peers not counted |")
-    L.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    L.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for g in goals:
         d0, d1, bd, bh = g["d0"], g["d1"], g["best_data"], g["best_hd"]
         ratio = (d1["geometric_hausdorff"] / bh["geometric_hausdorff"]
                  if d1 and bh and d1.get("geometric_hausdorff") is not None
                  and bh["geometric_hausdorff"] > FLOAT_NOISE else None)
         nc = ", ".join(f"{p['simplifier']} ({p['status']})" for p in g["not_counted"]) or "—"
-        L.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
-            g["surface"], g["strategy"].replace("ddsimp-", ""),
-            fmt(d0 and d0["data_rms"]), f"{bd['simplifier']} {fmt(bd['data_rms'])}" if bd else "—",
+        L.append("| {} | {:.0%} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+            g["surface"], g["level"], g["strategy"].replace("ddsimp-", ""),
+            fmt(d0 and d0["data_rms"]), f"{label(bd)} {fmt(bd['data_rms'])}" if bd else "—",
             "**met**" if g["data_ok"] else "**missed**",
             "kept" if d0 and d0["topology_kept"] else "changed",
             fmt(d1 and d1["geometric_hausdorff"]),
-            f"{bh['simplifier']} {fmt(bh['geometric_hausdorff'])}" if bh else "—",
+            f"{label(bh)} {fmt(bh['geometric_hausdorff'])}" if bh else "—",
             fmt(ratio, 3), "**met**" if g["hd_ok"] else "**missed**", nc))
     met_d = sum(g["data_ok"] for g in goals)
     met_h = sum(g["hd_ok"] for g in goals)
-    L.append(f"\nData goal met in {met_d} of {len(goals)} (surface, strategy) pairs; Hausdorff "
-             f"goal in {met_h} of {len(goals)}.\n")
+    L.append(f"\nData goal met in {met_d} of {len(goals)} (surface, level, strategy) triples; "
+             f"Hausdorff goal in {met_h} of {len(goals)}.\n")
+    L.append("## Where ddsimp still loses, and why\n")
+    L += losses_text(goals, surfaces)
+    L.append("")
+    choices = node_peer_choices(rows)
+    if choices:
+        L.append("## meshoptimizer's attribute-aware simplifiers, weight by weight\n")
+        L += node_peer_text(choices, lambda s, k: [r for r in rows if r["surface"] == s
+                                                   and r["keep"] == k])
+        L.append("")
 
     L.append("## Peers: topology and failures\n")
     L.append("| simplifier | runs | ok | not reached | failed / crashed / timeout | not run "
              "(budget) | topology kept (of runs with output) | what went wrong (first) |")
     L.append("|---|---|---|---|---|---|---|---|")
-    for name in DDSIMP + PEERS:
+    for name in DDSIMP + PEERS + NODE_PEERS:
         rs = [r for r in rows if r["simplifier"] == name]
         if not rs:
             continue
@@ -365,8 +372,9 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
                     f"{r['boundary_loops_out']}, comp. {r['components_in']}→{r['components_out']}, "
                     f"nm {r['nonmanifold_edges_in']}→{r['nonmanifold_edges_out']}")
             status = r["status"] + (f": {r['message']}" if r["message"] else "")
+            wasm = " (wasm)" if r.get("runtime") == "wasm" else ""
             L.append(f"| {label(r)} | {r['keep']:g} | {status[:120]} | {fmt(r['triangles_out'])} | "
-                     f"{fmt(r['cpu_seconds'], 3)} | {fmt(r['peak_rss_mb'], 4)} | "
+                     f"{fmt(r['cpu_seconds'], 3)}{wasm} | {fmt(r['peak_rss_mb'], 4)} | "
                      f"{fmt(r['geometric_rms'], 3)} | {fmt(r['geometric_hausdorff'], 3)} | "
                      f"{fmt(r['data_rms'], 3)} | {fmt(r['data_max'], 3)} | {topo} |")
         L.append("")
@@ -377,9 +385,12 @@ def write_report(rows, surfaces, goals, scaling, out_dir, quick, images, elapsed
 RUNS = {"all": 0, "reused": 0}  # runs asked for, and those taken from the cache (--resume)
 
 
-def run_key(surface, simplifier, alpha, level):
+def run_key(surface, simplifier, alpha, level, weight=None):
     """A run's name in the cache: `level` is the keep fraction, or a scaling run's repetition;
-    alpha is None for a peer (reuse.py writes the cache under the same names)."""
+    alpha is None for a peer, weight None for all but the node peers (reuse.py writes the cache
+    under the same names)."""
+    if weight is not None:
+        return f"{surface}__{simplifier}__w{float(weight):g}__{level}"
     return f"{surface}__{simplifier}__{alpha}__{level}"
 
 
@@ -443,19 +454,28 @@ def main():
              and not f.endswith(".partial.vtp") and not f.startswith("scale-")]
     sizes = surface_sizes(args.surfaces, names)
     names.sort(key=lambda n: (sizes[n], n))
+    missing = node_peers_missing()
+    if missing:
+        node_note = "not run: " + missing
+        print(f"report.py: meshoptimizer's attribute-aware peers left out: {missing}",
+              file=sys.stderr)
+    else:
+        node_note = node_peers_version()
+    configs = configurations(node_peers=not missing)
 
-    def reduce(surface, keep, simplifier, alpha):
+    def reduce(surface, keep, simplifier, alpha, weight):
         out_mesh = None
-        if surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0):
+        if (surface == args.render_surface and keep == GOAL_LEVEL and alpha in (None, 0.0)
+                and weight is None):
             out_mesh = os.path.join(meshes, f"{surface}-{simplifier}.vtp")
-        key = run_key(surface, simplifier, alpha, keep)
+        key = run_key(surface, simplifier, alpha, keep, weight)
         r = cached_run(cache, key, deadline,
                        lambda: run_one(tool, os.path.join(args.surfaces, surface + ".vtp"),
-                                       simplifier, alpha, keep, timeout, out_mesh))
-        print(f"{surface} {keep:g} {simplifier} {alpha}: {r.get('status')} "
+                                       simplifier, alpha, keep, timeout, out_mesh, weight=weight))
+        print(f"{surface} {keep:g} {simplifier} {alpha} {weight}: {r.get('status')} "
               f"{r.get('triangles_out', '')} {r.get('seconds', 0):.2f}s data "
               f"{r.get('data_rms', '—')}", file=sys.stderr, flush=True)
-        return row_of(surface, simplifier, alpha, keep, r)
+        return row_of(surface, simplifier, alpha, keep, r, weight)
 
     def scale(path, simplifier):
         alpha = 0.5 if simplifier in DDSIMP else None
@@ -482,12 +502,12 @@ def main():
         return s
 
     # Most important first, so that a spent budget leaves out the least: every surface at the
-    # goal level, then the scaling, then the other levels.
+    # goal levels, then the scaling, then the other levels.
     results = {}
-    for surface in names:
-        for simplifier, alpha in configurations():
-            results[(surface, GOAL_LEVEL, simplifier, alpha)] = reduce(surface, GOAL_LEVEL,
-                                                                      simplifier, alpha)
+    for keep in (l for l in GOAL_LEVELS if l in levels):
+        for surface in names:
+            for config in configs:
+                results[(surface, keep) + config] = reduce(surface, keep, *config)
     scaling = []
     if args.scaling:
         files = [f[:-4] for f in os.listdir(args.scaling) if f.startswith("scale-")
@@ -498,11 +518,10 @@ def main():
                 scaling.append(scale(os.path.join(args.scaling, f + ".vtp"), simplifier))
     for surface in names:
         for keep in levels:
-            for simplifier, alpha in configurations():
-                if (surface, keep, simplifier, alpha) not in results:
-                    results[(surface, keep, simplifier, alpha)] = reduce(surface, keep,
-                                                                        simplifier, alpha)
-    rows = [results[(s, k, p, a)] for s in names for k in levels for p, a in configurations()]
+            for config in configs:
+                if (surface, keep) + config not in results:
+                    results[(surface, keep) + config] = reduce(surface, keep, *config)
+    rows = [results[(s, k) + c] for s in names for k in levels for c in configs]
 
     with open(os.path.join(args.out, "results.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS)
@@ -532,7 +551,7 @@ def main():
         f.write(f"{spent:.0f}\n")
     baseline = load_rows(args.baseline) if args.baseline else None
     write_report(rows, names, goals, scaling, args.out, args.quick, images, spent, baseline,
-                 args.notes)
+                 args.notes, node_note)
     print(f"report.py: wrote {args.out}/report.md, results.csv", file=sys.stderr)
 
 

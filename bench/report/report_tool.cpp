@@ -1,11 +1,13 @@
 // ddsimp_report: the measuring half of the fidelity report (bench/report/run.sh drives it).
 //
-//   ddsimp_report reduce IN --peer P --keep F [--alpha A] [-o OUT] [--no-compare]
+//   ddsimp_report reduce IN --peer P --keep F [--alpha A] [--weight W] [-o OUT] [--no-compare]
 //       One reduction in this process (so its peak memory is its own): reads IN, runs peer P
 //       (see peers.h) to F of IN's triangles, and prints one JSON object: time, memory, triangles
 //       reached, geometric and data error (io/compare.h, the same code for every peer) and the
-//       topology before and after. Exit status 0 even when the peer fails (the JSON says so);
-//       1 for an unreadable IN, 2 for bad arguments.
+//       topology before and after. The WebAssembly peers run in a node process: their time is
+//       the call's as node measured it, their memory node's peak ("runtime": "wasm"). Exit
+//       status 0 even when the peer fails (the JSON says so); 1 for an unreadable IN, 2 for bad
+//       arguments.
 //   ddsimp_report prepare IN [IN2...] -o OUT [--fields a,b] [--derive-heat]
 //       Makes a report surface: IN's triangles with the fields of every IN (same points, e.g.
 //       the two files of an OpenFOAM cutting plane), only `--fields` if given, plus a derived
@@ -85,7 +87,7 @@ json topology_json(const ddsimp::Topology& t) {
 
 struct ReduceArgs {
     std::string input, peer, output;
-    double keep = 0.1, alpha = 0.5;
+    double keep = 0.1, alpha = 0.5, weight = 1.0;
     bool compare = true;
 };
 
@@ -104,12 +106,14 @@ int run_reduce(const ReduceArgs& args) {
     }
     ddsimp::report::PeerRequest request;
     request.alpha = args.alpha;
+    request.weight = args.weight;
     request.target_triangles =
         static_cast<size_t>(std::floor(double(input.triangle_count()) * args.keep));
 
     json out = {{"input", args.input},
                 {"peer", args.peer},
                 {"alpha", args.alpha},
+                {"weight", args.weight},
                 {"keep", args.keep},
                 {"triangles_in", input.triangle_count()},
                 {"target", request.target_triangles}};
@@ -135,10 +139,19 @@ int run_reduce(const ReduceArgs& args) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     const double cpu = cpu_seconds() - cpu_start;
     const long long hwm = proc_status_bytes("VmHWM");
-    out["seconds"] = wall;
-    out["cpu_seconds"] = cpu;
-    out["peak_rss_bytes"] = max_rss_bytes();
-    if (hwm_reset && hwm > 0 && rss_before > 0) out["call_rss_bytes"] = hwm - rss_before;
+    if (!result.runtime.empty()) {
+        // Measured by the process that ran the call; spawning it and the exchange do not count.
+        out["runtime"] = result.runtime;
+        if (result.call_seconds) out["seconds"] = *result.call_seconds;
+        if (result.call_cpu_seconds) out["cpu_seconds"] = *result.call_cpu_seconds;
+        if (result.process_peak_rss_bytes > 0)
+            out["peak_rss_bytes"] = result.process_peak_rss_bytes;
+    } else {
+        out["seconds"] = wall;
+        out["cpu_seconds"] = cpu;
+        out["peak_rss_bytes"] = max_rss_bytes();
+        if (hwm_reset && hwm > 0 && rss_before > 0) out["call_rss_bytes"] = hwm - rss_before;
+    }
 
     const size_t reached = result.surface.triangle_count();
     out["triangles_out"] = reached;
@@ -337,12 +350,15 @@ int main(int argc, char** argv) {
     CLI::App* r = app.add_subcommand("reduce", "One reduction by one peer, measured (JSON)");
     r->add_option("input", reduce.input, "Surface")->required();
     r->add_option("--peer", reduce.peer,
-                  "ddsimp-edge, ddsimp-vertex, meshopt, vtk-quadric, "
-                  "vtk-decimatepro or openmesh")
+                  "ddsimp-edge, ddsimp-vertex, meshopt, vtk-quadric, vtk-decimatepro, "
+                  "openmesh, meshopt-attributes or meshopt-update")
         ->required();
     r->add_option("--keep", reduce.keep, "Fraction of the triangles to keep")
         ->check(CLI::Range(0.0, 1.0));
     r->add_option("--alpha", reduce.alpha, "ddsimp's alpha")->check(CLI::Range(0.0, 1.0));
+    r->add_option("--weight", reduce.weight,
+                  "meshoptimizer's attribute weight (meshopt-attributes, meshopt-update)")
+        ->check(CLI::PositiveNumber);
     r->add_option("-o,--output", reduce.output, "Write the reduced surface here");
     r->add_flag("!--no-compare", reduce.compare, "Skip the error measurement (timing only)");
 

@@ -9,7 +9,8 @@ committed one). Every row becomes a cached result in OUT_DIR/runs, the cache tha
 `run.sh --resume` reads (report.py: cached_run), except the rows that a --rerun SPEC matches and
 report.py's RENDER_SURFACE at GOAL_LEVEL with α = 0 and the peers, whose reductions render.py
 draws (only a run writes them). A SPEC is space-separated FIELD=VALUE,VALUE... with FIELD one of
-surface, simplifier, alpha (empty for a peer) and keep ("scaling" for a scaling point); a row
+surface, simplifier, alpha (empty for a peer), weight (empty but for meshoptimizer's
+attribute-aware peers) and keep ("scaling" for a scaling point); a row
 matches when every field named has one of its values ("*" ends a value as a prefix). Example, a
 change to edge collapse at α > 0:
 
@@ -38,7 +39,7 @@ def parse_spec(text):
     spec = {}
     for part in text.split():
         field, _, values = part.partition("=")
-        if field not in ("surface", "simplifier", "alpha", "keep"):
+        if field not in ("surface", "simplifier", "alpha", "weight", "keep"):
             sys.exit(f"reuse.py: unknown field '{field}' in --rerun '{text}'")
         spec[field] = values.split(",")
     return spec
@@ -47,7 +48,7 @@ def parse_spec(text):
 def matches(spec, row):
     def one(value, wanted):
         return value.startswith(wanted[:-1]) if wanted.endswith("*") else value == wanted
-    return all(any(one(row[f], w) for w in wanted) for f, wanted in spec.items())
+    return all(any(one(row.get(f, ""), w) for w in wanted) for f, wanted in spec.items())
 
 
 def number(text, kind=float):
@@ -57,7 +58,7 @@ def number(text, kind=float):
 def cached_reduction(row):
     """The measurements `ddsimp_report reduce` printed for a results.csv row (what row_of reads)."""
     r = {"status": row["status"], "message": row["message"],
-         "fields_lost": row["fields_lost"].split()}
+         "fields_lost": row["fields_lost"].split(), "runtime": row.get("runtime") or None}
     r.update({k: number(row[k], int) for k in COUNTED})
     r.update({k: number(row[k]) for k in MEASURED})
     if row["topology_kept"] != "":
@@ -86,7 +87,7 @@ def alpha_of(text):
 def rendered(row):
     """report.py writes the meshes of these runs for render.py, which only a run does."""
     return (row["surface"] == report.RENDER_SURFACE and float(row["keep"]) == report.GOAL_LEVEL
-            and row["alpha"] in ("", "0.0"))
+            and row["alpha"] in ("", "0.0") and row.get("weight", "") == "")
 
 
 def main():
@@ -109,7 +110,8 @@ def main():
                 rerun += 1
                 continue
             write(report.run_key(row["surface"], row["simplifier"], alpha_of(row["alpha"]),
-                                 float(row["keep"])), cached_reduction(row))
+                                 float(row["keep"]), alpha_of(row.get("weight", ""))),
+                  cached_reduction(row))
             reused += 1
     scaling = os.path.join(args.earlier, "scaling.csv")
     if os.path.exists(scaling):

@@ -14,10 +14,13 @@
 #   DDSIMP_REPORT_BUILD_DIR  use ddsimp and ddsimp_report already built there (skip the build)
 #   DDSIMP_SHARED_DATA       the shared data directory (default: ../shared/data beside the repo)
 #   DDSIMP_REPORT_COMMIT     the commit the programs were built from (default: git HEAD)
-#   DDSIMP_REPORT_BUDGET     minutes after which no new run starts (default 40); what was not
+#   DDSIMP_REPORT_BUDGET     minutes after which no new run starts (default 75); what was not
 #                            run is reported as "not run", most important runs first
-# Needs: python3-matplotlib; for the images python3-vtk9 and xvfb (scripts/install-deps.sh).
-# The full run takes about 40 minutes on 2 cores.
+# Needs: python3-matplotlib; for the images python3-vtk9 and xvfb (scripts/install-deps.sh); for
+# meshoptimizer's attribute-aware simplifiers node and npm (Debian's nodejs, npm): a full run
+# installs npm's meshoptimizer into bench/report/node_modules with `npm ci` (package-lock.json);
+# --quick never does, and without node_modules the report leaves those peers out and says why.
+# The full run takes about an hour on 2 cores.
 set -euo pipefail
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -57,6 +60,14 @@ if $quick; then
     exit 0
 fi
 
+# meshoptimizer's attribute-aware simplifiers (npm, WebAssembly): the version the lockfile names.
+if command -v npm >/dev/null; then
+    (cd "$here" && npm ci --no-audit --no-fund --loglevel=error) ||
+        echo "run.sh: npm ci failed: meshoptimizer's attribute-aware peers are left out" >&2
+else
+    echo "run.sh: npm not found (Debian's npm): meshoptimizer's attribute-aware peers are left out" >&2
+fi
+
 # The full surfaces are big: keep them with the benchmark data (git-ignored) across runs.
 surfaces="$root/bench/data/report"
 "$here/make-surfaces.sh" "$build" "$surfaces"
@@ -67,7 +78,7 @@ baseline=()
 [[ -f "$here/latest/results.csv" ]] && baseline+=(--baseline "$here/latest/results.csv")
 [[ -f "$here/changes.md" ]] && baseline+=(--notes "$here/changes.md")
 "$python" "$here/report.py" --build "$build" --surfaces "$surfaces" --out "$out" \
-    --scaling "$surfaces" --render-surface earth --budget-minutes "${DDSIMP_REPORT_BUDGET:-40}" \
+    --scaling "$surfaces" --render-surface earth --budget-minutes "${DDSIMP_REPORT_BUDGET:-75}" \
     "${resume[@]}" "${baseline[@]}"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$python" "$here/render.py" \
     "$surfaces/earth.vtp" "$out/meshes" "$out/earth-10pct.png"

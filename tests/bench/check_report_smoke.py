@@ -5,7 +5,9 @@
 
 Quick mode reduces two small surfaces of the shared data to 10% with every simplifier. The
 expected rows, columns and input sizes are written out here (the sizes from the shared data's
-README), not taken from the report code; no time is asserted.
+README), not taken from the report code; no time is asserted. meshoptimizer's attribute-aware
+peers run only where `npm ci` installed them in bench/report (never in CI): then all their rows
+must be there, else none, and the report must say why they were left out.
 """
 
 import csv
@@ -21,9 +23,12 @@ SURFACES = {
 }
 SIMPLIFIERS = [(s, a) for s in ("ddsimp-edge", "ddsimp-vertex") for a in ("0.0", "0.5", "1.0")] + [
     (p, "") for p in ("meshopt", "vtk-quadric", "vtk-decimatepro", "openmesh")]
+NODE_PEERS = ("meshopt-attributes", "meshopt-update")
+WEIGHTS = ("1.0", "2.0", "4.0", "8.0", "16.0", "32.0")
 COLUMNS = [
-    "surface", "simplifier", "alpha", "keep", "status", "message", "triangles_in", "target",
-    "triangles_out", "triangles_seen", "seconds", "cpu_seconds", "peak_rss_mb", "call_rss_mb",
+    "surface", "simplifier", "alpha", "weight", "keep", "status", "message", "triangles_in",
+    "target", "triangles_out", "triangles_seen", "seconds", "cpu_seconds", "runtime",
+    "peak_rss_mb", "call_rss_mb",
     "geometric_rms", "geometric_hausdorff", "data_rms", "data_max", "fields_lost", "topology_kept",
     "euler_in", "euler_out", "boundary_loops_in", "boundary_loops_out", "components_in",
     "components_out", "nonmanifold_edges_in", "nonmanifold_edges_out",
@@ -55,14 +60,19 @@ def main():
         reader = csv.DictReader(f)
         expect(reader.fieldnames == COLUMNS, f"columns {reader.fieldnames}, expected {COLUMNS}")
         rows = list(reader)
-    keys = [(r["surface"], r["simplifier"], r["alpha"], r["keep"]) for r in rows]
-    expected = [(s, p, a, "0.1") for s in SURFACES for p, a in SIMPLIFIERS]
+    keys = [(r["surface"], r["simplifier"], r["alpha"], r["weight"], r["keep"]) for r in rows]
+    expected = [(s, p, a, "", "0.1") for s in SURFACES for p, a in SIMPLIFIERS]
+    node_rows = any(r["simplifier"] in NODE_PEERS for r in rows)
+    if node_rows:
+        expected += [(s, p, "", w, "0.1") for s in SURFACES for p in NODE_PEERS for w in WEIGHTS]
     expect(sorted(keys) == sorted(expected), f"rows {sorted(keys)}, expected {sorted(expected)}")
 
     for r in rows:
-        name = f"{r['surface']}/{r['simplifier']}/{r['alpha']}"
+        name = f"{r['surface']}/{r['simplifier']}/{r['alpha']}{r['weight']}"
         triangles_in = SURFACES.get(r["surface"], -1)
         expect(r["status"] in STATUSES, f"{name}: status {r['status']!r}")
+        expect(r["runtime"] == ("wasm" if r["simplifier"] in NODE_PEERS else ""),
+               f"{name}: runtime {r['runtime']!r}")
         expect(int(r["triangles_in"]) == triangles_in, f"{name}: triangles_in {r['triangles_in']}")
         expect(int(r["target"]) == triangles_in // 10, f"{name}: target {r['target']}")
         if r["status"] in ("crashed", "timeout"):
@@ -89,8 +99,11 @@ def main():
                    ("1", "1", "1"), f"{name}: output topology changed")
 
     report = open(os.path.join(out, "report.md")).read()
+    if not node_rows:
+        expect("meshoptimizer's attribute-aware simplifiers: not run: " in report,
+               "no node peer rows, and report.md does not say why")
     for heading in ("## Goals at 10% of the triangles", "## Peers: topology and failures",
-                    "### disk-cut", "### disk-temp400"):
+                    "## Where ddsimp still loses, and why", "### disk-cut", "### disk-temp400"):
         expect(heading in report, f"report.md has no '{heading}'")
     plot = os.path.join(out, "data-error-vs-triangles.png")
     expect(os.path.exists(plot) and open(plot, "rb").read(8) == b"\x89PNG\r\n\x1a\n",
