@@ -69,6 +69,9 @@ Config parse_config(int argc, char** argv) {
     opt("--tls-cert", c.tls_cert, "TLS certificate (PEM); with --tls-key, TLS on both ports");
     opt("--tls-key", c.tls_key, "TLS private key (PEM)");
     opt("--threads", c.threads, "simplification threads")->check(CLI::Range(1, 256));
+    opt("--speculate", c.speculate,
+        "after an upload, while no request waits, compute the records at alpha 0, 0.5 and 1, so "
+        "that a near preview exists for any alpha (false: off)");
     opt("--cache-mb", c.cache_mb, "memory for cached results (MiB)");
     opt("--surfaces-mb", c.surfaces_mb,
         "memory for stored surfaces (MiB); the others stay on disk until a request needs them");

@@ -38,7 +38,8 @@ struct Config {
     std::string tokens_file; // one token per user: lines "NAME TOKEN" (tokens.h)
     std::string tls_cert;    // both set: TLS on the native and HTTP ports
     std::string tls_key;
-    int threads = 2; // compute pool
+    int threads = 2;       // compute pool
+    bool speculate = true; // records at alpha 0, 0.5, 1 after an upload, while idle
     size_t cache_mb = 512;
     size_t surfaces_mb = 512; // stored surfaces kept in memory (the rest are read when needed)
     std::string web_dir;      // the browser renderer's built files, served at /

@@ -60,6 +60,14 @@ std::string Metrics::render(const Snapshot& s) const {
            reductions_cancelled.load());
     metric("previews_sent_total", "counter", "Previews sent before an exact level.",
            previews_sent.load());
+    metric("speculative_records_total", "counter",
+           "Records computed while idle, at alpha 0, 0.5 and 1 of new surfaces (--speculate).",
+           speculative_records.load());
+    metric("speculations_yielded_total", "counter",
+           "Speculative computations stopped to free a worker for a client (run again later).",
+           speculations_yielded.load());
+    metric("speculations_pending", "gauge", "Speculative computations waiting or running.",
+           speculations_pending.load());
     metric("request_jobs", "gauge",
            "Request jobs queued or running, cancelled ones included until they stop.",
            request_jobs.load());

@@ -47,7 +47,7 @@ std::shared_ptr<const ComputedRecord> Reductions::cached_record(const std::strin
 std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& params,
                                                          const std::string& key, size_t depth,
                                                          const std::atomic<bool>& cancelled,
-                                                         bool* computed) {
+                                                         bool* computed, Run run) {
     if (computed) *computed = false;
     if (auto found = cached_record(key, depth)) return found;
     auto out = cache_.get<ComputedRecord>(
@@ -74,7 +74,8 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
             }
             // Counted cancelled before it stops counting as running: whoever sees it stop sees why.
             if (record->stop() == StopReason::Cancelled) {
-                ++metrics_.reductions_cancelled;
+                ++(run == Run::Speculative ? metrics_.speculations_yielded
+                                           : metrics_.reductions_cancelled);
                 --metrics_.reductions_running;
                 throw Cancelled();
             }

@@ -51,6 +51,10 @@ public:
 
 class Reductions {
 public:
+    // Who asked for a run: a client (stopped: counted cancelled) or speculation (stopped: it
+    // yielded its worker to a client and runs again later).
+    enum class Run { Asked, Speculative };
+
     // `engine_threads`: Options::threads of every run (the pool's threads times these stay
     // within the cores).
     Reductions(SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
@@ -63,8 +67,8 @@ public:
     // Cancelled when `cancelled` (or, for a run this call waited for, its own flag) stopped it.
     std::shared_ptr<const ComputedRecord> record(const ReductionParams& params,
                                                  const std::string& key, size_t depth,
-                                                 const std::atomic<bool>& cancelled,
-                                                 bool* computed);
+                                                 const std::atomic<bool>& cancelled, bool* computed,
+                                                 Run run = Run::Asked);
     // A cached record of `key` that reaches `depth` triangles, or null (no computation).
     std::shared_ptr<const ComputedRecord> cached_record(const std::string& key, size_t depth);
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,

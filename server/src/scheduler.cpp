@@ -13,28 +13,48 @@ Scheduler::~Scheduler() {
     stop();
 }
 
-bool Scheduler::submit(uint64_t client, Work work, Priority priority) {
+uint64_t Scheduler::submit(uint64_t client, Work work) {
     if (workers_.empty()) {
         boost::asio::post(inline_executor_, std::move(work));
-        return true;
+        return next_ticket_++;
     }
+    uint64_t ticket = 0;
     {
         std::lock_guard lock(mutex_);
-        if (stopping_) return false;
-        if (priority == Priority::Background) {
-            background_.push_back(std::move(work));
-        } else {
-            std::deque<Work>& queue = queues_[client];
-            if (queue.size() >= max_queued_) {
-                if (queue.empty()) queues_.erase(client);
-                return false;
-            }
-            queue.push_back(std::move(work));
-            ++normal_queued_;
-        }
+        if (stopping_) return 0;
+        std::deque<Job>& queue = queues_[client];
+        if (queue.size() >= max_queued_) return 0; // the queue is not empty: it stays
+        ticket = next_ticket_++;
+        queue.push_back({ticket, std::move(work)});
+        ++normal_queued_;
+        // More jobs waiting than free workers: the background work gives its worker up.
+        if (background_running_ && normal_queued_ > size_t(idle_)) yield_ = true;
     }
     wake_.notify_one();
-    return true;
+    return ticket;
+}
+
+bool Scheduler::withdraw(uint64_t ticket) {
+    std::lock_guard lock(mutex_);
+    for (auto q = queues_.begin(); q != queues_.end(); ++q)
+        for (auto j = q->second.begin(); j != q->second.end(); ++j)
+            if (j->ticket == ticket) {
+                q->second.erase(j);
+                if (q->second.empty()) queues_.erase(q);
+                --normal_queued_;
+                return true;
+            }
+    return false;
+}
+
+void Scheduler::submit_background(Background work) {
+    if (workers_.empty()) return;
+    {
+        std::lock_guard lock(mutex_);
+        if (stopping_) return;
+        background_.push_back(std::move(work));
+    }
+    wake_.notify_one();
 }
 
 size_t Scheduler::queued(uint64_t client) const {
@@ -48,11 +68,17 @@ size_t Scheduler::queued() const {
     return normal_queued_;
 }
 
+size_t Scheduler::background() const {
+    std::lock_guard lock(mutex_);
+    return background_.size() + (background_running_ ? 1 : 0);
+}
+
 void Scheduler::stop() {
     {
         std::lock_guard lock(mutex_);
         if (stopping_ && workers_.empty()) return;
         stopping_ = true;
+        yield_ = true;
         queues_.clear();
         background_.clear();
         normal_queued_ = 0;
@@ -63,21 +89,22 @@ void Scheduler::stop() {
     workers_.clear();
 }
 
-// The next client after the one served last (in id order, wrapping), else a background job.
-bool Scheduler::next_locked(Work& out) {
+bool Scheduler::next_locked(Work& job, Background& background) {
     if (!queues_.empty()) {
         auto it = queues_.upper_bound(last_client_);
         if (it == queues_.end()) it = queues_.begin();
         last_client_ = it->first;
-        out = std::move(it->second.front());
+        job = std::move(it->second.front().work);
         it->second.pop_front();
         if (it->second.empty()) queues_.erase(it);
         --normal_queued_;
         return true;
     }
-    if (!background_.empty()) {
-        out = std::move(background_.front());
+    if (!background_.empty() && !background_running_) {
+        background = std::move(background_.front());
         background_.pop_front();
+        background_running_ = true;
+        yield_ = false;
         return true;
     }
     return false;
@@ -86,13 +113,25 @@ bool Scheduler::next_locked(Work& out) {
 void Scheduler::work() {
     for (;;) {
         Work job;
+        Background background;
         {
             std::unique_lock lock(mutex_);
-            wake_.wait(lock, [&] { return stopping_ || !queues_.empty() || !background_.empty(); });
+            ++idle_;
+            wake_.wait(lock, [&] { return stopping_ || next_locked(job, background); });
+            --idle_;
             if (stopping_) return;
-            next_locked(job);
         }
-        job();
+        if (job) {
+            job();
+            continue;
+        }
+        const bool done = background(yield_);
+        {
+            std::lock_guard lock(mutex_);
+            background_running_ = false;
+            if (!done && !stopping_) background_.push_front(std::move(background));
+        }
+        wake_.notify_one();
     }
 }
 

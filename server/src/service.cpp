@@ -68,7 +68,7 @@ Service::~Service() {
     if (preview_pool_) preview_pool_->join();
 }
 
-bool Service::compute(uint64_t client, Scheduler::Work work) {
+uint64_t Service::compute(uint64_t client, Scheduler::Work work) {
     return scheduler_.submit(client, std::move(work));
 }
 
@@ -85,6 +85,7 @@ void Service::load_sample() {
         const auto added = store_.add_in_memory(file.name, std::move(file.surface));
         spdlog::info("sample surface \"{}\" ({} triangles) is {}", added.info.name,
                      added.info.triangles, added.info.id);
+        speculate(added.info.id);
     } catch (const std::exception& e) {
         spdlog::error("cannot load the sample surface: {}", e.what());
     }
@@ -207,6 +208,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
                        release_upload(owner, begin.total_bytes());
                        if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
                        c->send(result);
+                       if (!result.already_stored()) speculate(result.surface());
                        if (!begin.session().empty()) {
                            v1::SetSessionState change;
                            change.set_name(begin.session());

@@ -83,7 +83,11 @@ private:
     // Queues heavy work of `client` on the scheduler's pool (or the network thread itself when
     // config.threads is 0: one thread, a deterministic order, as the fuzz targets drive it);
     // false if the client has too many jobs waiting.
-    bool compute(uint64_t client, Scheduler::Work work);
+    // Returns the scheduler's ticket (0: refused).
+    uint64_t compute(uint64_t client, Scheduler::Work work);
+    // While the pool is idle, the records of the default options at alpha 0, 0.5 and 1 of a new
+    // surface (speculation.cpp).
+    void speculate(const std::string& surface);
     // Where previews are cut: their own thread, so that they never wait behind computations.
     boost::asio::any_io_executor preview_executor();
 
@@ -91,7 +95,9 @@ private:
     struct RunningRequest {
         std::string key;
         std::string surface;
-        CancelFlag ended; // set when the request ends before its job (the job then stops)
+        CancelFlag ended;       // set when the request ends before its job (the job then stops)
+        uint64_t ticket = 0;    // the job's, to take it back before it starts
+        uint64_t job_bytes = 0; // what the job holds (Metrics::request_job_bytes)
     };
     struct RequestJob;
     struct PreparedLevel;
@@ -108,8 +114,11 @@ private:
     // Cuts a preview of the request's finest level on the preview thread and queues it, unless
     // an exact level went out first.
     void send_preview(const std::shared_ptr<RequestJob>& job);
-    // Ends the bookkeeping of a running request; its computation stops if nobody else waits.
+    // Ends the bookkeeping of a running request; its computation stops if nobody else waits, and
+    // its job, if it has not started, is taken back.
     void forget_request(uint64_t client, uint64_t request_id);
+    // A request's job has stopped (or was taken back): its place and bytes are free.
+    void end_request_job(Connection* c, uint64_t job_bytes); // c: null once closed
     // A request with `supersede` set ends the client's older requests for the same surface.
     void supersede(Connection& c, uint64_t request_id, const std::string& surface);
 

@@ -160,7 +160,8 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     const bool ready =
         reductions_.cached_record(
             job->key, *std::min_element(job->targets.begin(), job->targets.end())) != nullptr;
-    if (!compute(c->id(), [this, job] { run_request(job); })) {
+    const uint64_t ticket = compute(c->id(), [this, job] { run_request(job); });
+    if (ticket == 0) {
         computations_.leave(job->key, waiter);
         return refuse(v1::Error::RESOURCE_EXHAUSTED,
                       "too many jobs of yours waiting (at most " +
@@ -173,7 +174,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     job->accounted_bytes = job->bytes();
     ++metrics_.request_jobs;
     metrics_.request_job_bytes += int64_t(job->accounted_bytes);
-    running_[{c->id(), rid}] = {job->key, params.surface, job->ended};
+    running_[{c->id(), rid}] = {job->key, params.surface, job->ended, ticket, job->accounted_bytes};
     if (!ready && c->has_capability("previews")) send_preview(job);
 }
 
@@ -296,9 +297,7 @@ void Service::deliver(const std::shared_ptr<RequestJob>& job, std::vector<Prepar
                        auto it = running_.find({c->id(), rid});
                        if (it != running_.end() && it->second.ended == job->ended)
                            forget_request(c->id(), rid);
-                       c->end_job(); // stopped: its place is free
-                       --metrics_.request_jobs;
-                       metrics_.request_job_bytes -= int64_t(job->accounted_bytes);
+                       end_request_job(c.get(), job->accounted_bytes);
                    }
                    // A key is remembered once a level has named it: a request that fails
                    // (an unknown field, a cancel) leaves nothing behind.
@@ -334,13 +333,13 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
     const size_t target = job->targets[level];
     std::shared_ptr<const ComputedRecord> nearest;
     double distance = 2;
-    known_results_.for_surface(job->params.surface, [&](const std::string& key,
-                                                        const ReductionParams& params) {
-        if (key == job->key || params.options.strategy != job->params.options.strategy) return;
-        const double d = std::abs(params.options.alpha - job->params.options.alpha);
-        if (d >= distance) return;
-        if (auto rec = reductions_.cached_record(key, target)) nearest = rec, distance = d;
-    });
+    known_results_.for_surface(
+        job->params.surface, [&](const std::string& key, const ReductionParams& params) {
+            if (key == job->key || params.options.strategy != job->params.options.strategy) return;
+            const double d = std::abs(params.options.alpha - job->params.options.alpha);
+            if (d >= distance) return;
+            if (auto rec = reductions_.cached_record(key, target)) nearest = rec, distance = d;
+        });
     asio::post(preview_executor(), [this, job, level, target, nearest] {
         v1::MeshBegin begin;
         std::shared_ptr<protocol::EncodedBlob> blob;
@@ -389,7 +388,15 @@ void Service::forget_request(uint64_t client, uint64_t request_id) {
     if (it == running_.end()) return;
     computations_.leave(it->second.key, Computations::request_waiter(client, request_id));
     it->second.ended->store(true);
+    if (scheduler_.withdraw(it->second.ticket))
+        end_request_job(find(client).get(), it->second.job_bytes);
     running_.erase(it);
+}
+
+void Service::end_request_job(Connection* c, uint64_t job_bytes) {
+    if (c) c->end_job();
+    --metrics_.request_jobs;
+    metrics_.request_job_bytes -= int64_t(job_bytes);
 }
 
 void Service::cancel_request(Connection& c, uint64_t request_id) {
@@ -455,8 +462,8 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
         if (auto c = find(id))
             (c->has_capability("meshopt-codec") ? need_meshopt : need_raw) = true;
     const uint64_t client = targets.empty() ? 0 : targets.front();
-    compute(client, [this, params, key, keep, name, scope, version, latest, need_raw,
-                     need_meshopt, depth, cancelled, targets = std::move(targets)] {
+    compute(client, [this, params, key, keep, name, scope, version, latest, need_raw, need_meshopt,
+                     depth, cancelled, targets = std::move(targets)] {
         // A newer view came while this one waited for a worker: only the newest is computed.
         if (latest->load() != version) {
             ++metrics_.session_views_skipped;

@@ -99,6 +99,8 @@ public:
             DDSIMP_SERVER_BINARY,      "--port",     std::to_string(port), "--http-port",
             std::to_string(http_port), "--data-dir", data_dir_.string()};
         if (flag("--log-level") == "127.0.0.1") args.insert(args.end(), {"--log-level", "warn"});
+        // Speculation keeps the pool busy after every upload: only the tests of it turn it on.
+        if (flag("--speculate") == "127.0.0.1") args.insert(args.end(), {"--speculate", "false"});
         if (flag("--sample") == "127.0.0.1")
             args.insert(args.end(), {"--sample", DDSIMP_SAMPLE_DATA "/SurfaceVectors.ddsurf"});
         for (size_t i = 0; i < extra_.size(); ++i) {

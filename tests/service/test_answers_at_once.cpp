@@ -1,7 +1,8 @@
 // The service answers at once (libddsimp-client against the real ddsimp-server): a preview
 // marked as such and then replaced by the exact level; the finest level leaving before the run
 // to the coarsest ends; cancellation (by the client, by a superseding request) counted and the
-// computation stopped, unless another client still waits for it; fair order between clients.
+// computation stopped, unless another client still waits for it; fair order between clients;
+// speculation after an upload, yielding its worker to any client job.
 #include "mesh_comparison.h"
 #include "server_harness.h"
 #include "test_surfaces.h"
@@ -238,6 +239,73 @@ TEST_F(FairCompute, AnotherClientsRequestRunsNextAfterTheJobRunning) {
     const size_t position =
         size_t(std::find(finished.begin(), finished.end(), "other") - finished.begin());
     EXPECT_LE(position, 2u) << "finished " << position << "th of 5";
+}
+
+// Speculation (on by default; the test harness turns it off elsewhere).
+class Speculation : public AnswersAtOnce {
+protected:
+    explicit Speculation(std::vector<std::string> flags = {})
+        : AnswersAtOnce(with_speculation(std::move(flags))) {}
+    static std::vector<std::string> with_speculation(std::vector<std::string> flags) {
+        flags.insert(flags.end(), {"--speculate", "true"});
+        return flags;
+    }
+};
+
+// After an upload the idle pool makes the records at alpha 0, 0.5 and 1: a request at alpha 0.4
+// first gets the level of the alpha 0.5 record as its preview, and a request at alpha 1 is cut
+// from a ready record, with the library's bytes.
+TEST_F(Speculation, AnUploadGetsRecordsAtThreeAlphasWhileIdle) {
+    const Surface input = sphere(5);
+    Client client;
+    client.connect(local(server_.port));
+    LevelRequest request;
+    request.surface = client.upload(input, "sphere").surface;
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_speculative_records_total", 3));
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_speculations_pending", 0));
+
+    request.alpha = 0.4;
+    request.keep = {0.1};
+    request.encoding = Encoding::Raw;
+    std::vector<Level> seen;
+    PendingRequest pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
+    pending.done.get();
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_TRUE(seen[0].preview);
+    EXPECT_TRUE(test::same_bytes(seen[0].mesh, offline(input, 0.5, 0.1)));
+    EXPECT_TRUE(test::same_bytes(pending.levels[0].get().mesh, offline(input, 0.4, 0.1)));
+
+    request.alpha = 1;
+    seen.clear();
+    pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
+    pending.done.get();
+    ASSERT_EQ(seen.size(), 1u);
+    EXPECT_FALSE(seen[0].preview);
+    EXPECT_TRUE(seen[0].cached);
+    EXPECT_TRUE(test::same_bytes(seen[0].mesh, offline(input, 1, 0.1)));
+}
+
+class SpeculationOneWorker : public Speculation {
+protected:
+    SpeculationOneWorker() : Speculation({"--threads", "1"}) {}
+};
+
+// A client's job takes the only worker from a running speculation, which runs again later.
+TEST_F(SpeculationOneWorker, YieldsItsWorkerToAClientsJob) {
+    Client client;
+    client.connect(local(server_.port));
+    client.upload(sphere(7), "large"); // 327,680 triangles: its speculation runs a while
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 1));
+    const Surface small = sphere(3);
+    LevelRequest request;
+    request.surface = client.upload(small, "small").surface; // a job of the client's: it waits
+    request.alpha = 0.3;
+    request.keep = {0.1};
+    request.encoding = Encoding::Raw;
+    EXPECT_TRUE(
+        test::same_bytes(client.request(request).levels[0].get().mesh, offline(small, 0.3, 0.1)));
+    EXPECT_GE(test::metric(server_.http_port, "ddsimp_speculations_yielded_total"), 1);
+    EXPECT_GT(test::metric(server_.http_port, "ddsimp_speculations_pending"), 0);
 }
 
 } // namespace

@@ -66,6 +66,8 @@ export async function startServer({ extraArgs = [], httpPort, webDir, sample } =
   if (sample === undefined) sample = planeSample();
   const args = ['--port', String(port), '--http-port', String(httpPort), '--data-dir', dataDir,
     '--web-dir', webDir ?? required('DDSIMP_WEB_DIST'), '--log-level', 'warn',
+    // Speculation keeps the server busy after every upload; the service's own tests cover it.
+    ...(extraArgs.includes('--speculate') ? [] : ['--speculate', 'false']),
     ...(sample === null ? [] : ['--sample', sample]), ...extraArgs];
   const child = spawn(required('DDSIMP_SERVER'), args, { stdio: ['ignore', 'inherit', 'inherit'] });
   let exited = null;
