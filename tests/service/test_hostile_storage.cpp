@@ -74,7 +74,9 @@ TEST(HostileStorage, SurfacesBeyondTheMemoryBoundAreReadBackWhenNeeded) {
     // validated and written (four copies of a surface), never by what is stored.
     const size_t stored = size_t(kSurfaces) * surface_bytes;
     const size_t bound = kBoundMiB * kMiB + 4 * surface_bytes + kAllocatorSlack;
-    if (kCheckable) ASSERT_LT(bound, stored) << "the check would not notice every surface kept";
+    if (kCheckable) {
+        ASSERT_LT(bound, stored) << "the check would not notice every surface kept";
+    }
     const size_t allowance = with_sanitizer_memory(bound);
     const size_t growth = server->status_bytes("VmHWM") - peak_before;
     EXPECT_LE(growth, allowance);
