@@ -101,8 +101,12 @@ TEST_P(Corpus, IsReadReducedBothWaysAndKeepsTopologyAndFieldKinds) {
     const CorpusFile& file = GetParam();
     io::Notes notes;
     const Surface input = io::read_surface(corpus(file.path), &notes);
-    if (file.triangles > 0) EXPECT_EQ(input.triangle_count(), file.triangles);
-    if (!file.note.empty()) EXPECT_NE(all(notes).find(file.note), std::string::npos) << all(notes);
+    if (file.triangles > 0) {
+        EXPECT_EQ(input.triangle_count(), file.triangles);
+    }
+    if (!file.note.empty()) {
+        EXPECT_NE(all(notes).find(file.note), std::string::npos) << all(notes);
+    }
 
     Surface repaired = input;
     validate(repaired);

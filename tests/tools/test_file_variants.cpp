@@ -64,7 +64,9 @@ void expect_grid(const Surface& s, const QuadGrid& grid, bool grid_order = true)
         for (int c = 0; c < 3 && grid_order; ++c)
             EXPECT_NEAR(s.positions[3 * v + c], grid.point(v)[c], 1e-6);
     }
-    if (!grid_order) EXPECT_EQ(read, made);
+    if (!grid_order) {
+        EXPECT_EQ(read, made);
+    }
     ASSERT_EQ(s.triangle_count(), 2 * grid.quads());
     double area = 0;
     for (size_t t = 0; t < s.triangle_count(); ++t) {
