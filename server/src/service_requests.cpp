@@ -332,35 +332,43 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
     const size_t level = job->finest_first.front();
     const size_t target = job->targets[level];
     std::shared_ptr<const ComputedRecord> nearest;
+    std::string nearest_key;
     double distance = 2;
     known_results_.for_surface(
         job->params.surface, [&](const std::string& key, const ReductionParams& params) {
             if (key == job->key || params.options.strategy != job->params.options.strategy) return;
             const double d = std::abs(params.options.alpha - job->params.options.alpha);
             if (d >= distance) return;
-            if (auto rec = reductions_.cached_record(key, target)) nearest = rec, distance = d;
+            if (auto rec = reductions_.cached_record(key, target)) {
+                nearest = rec, nearest_key = key, distance = d;
+            }
         });
-    asio::post(preview_executor(), [this, job, level, target, nearest] {
+    asio::post(preview_executor(), [this, job, level, target, nearest, nearest_key] {
         v1::MeshBegin begin;
-        std::shared_ptr<protocol::EncodedBlob> blob;
+        std::shared_ptr<const protocol::EncodedBlob> blob;
         try {
-            Surface preview;
+            size_t triangles = 0;
             if (nearest) {
-                preview = nearest->record.level(target);
+                // Through the cache: a slider's previews near one record cut its level once.
+                auto cut =
+                    reductions_.level(*nearest, nearest_key, job->keep[level], job->encoding);
+                blob = std::shared_ptr<const protocol::EncodedBlob>(cut, &cut->blob);
+                triangles = cut->triangles;
             } else {
                 std::shared_ptr<const Surface> surface = store_.load(job->params.surface);
                 if (!surface) return;
-                preview = clustered_preview(*surface, target);
+                const Surface preview = clustered_preview(*surface, target);
+                blob = std::make_shared<protocol::EncodedBlob>(
+                    protocol::encode_mesh(preview, job->encoding));
+                triangles = preview.triangle_count();
             }
-            blob = std::make_shared<protocol::EncodedBlob>(
-                protocol::encode_mesh(preview, job->encoding));
             begin.set_request_id(job->request_id);
             begin.set_level(uint32_t(level));
             begin.set_keep(job->keep[level]);
             begin.set_kind(v1::MeshBegin::FULL);
             protocol::set_layout(begin, blob->layout);
-            begin.set_total_triangles(preview.triangle_count());
-            begin.set_target_reached(preview.triangle_count() <= target);
+            begin.set_total_triangles(triangles);
+            begin.set_target_reached(triangles <= target);
             begin.set_surface(job->params.surface);
             begin.set_preview(true);
         } catch (const std::exception& e) {
