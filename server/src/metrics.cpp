@@ -58,14 +58,15 @@ std::string Metrics::render(const Snapshot& s) const {
     metric("reductions_cancelled_total", "counter",
            "Computations cancelled because no request or session waited for them any more.",
            reductions_cancelled.load());
+    metric("reductions_yielded_total", "counter",
+           "Computations stopped to give their worker to another client's job or to a client "
+           "(speculation); each runs again later.",
+           reductions_yielded.load());
     metric("previews_sent_total", "counter", "Previews sent before an exact level.",
            previews_sent.load());
     metric("speculative_records_total", "counter",
            "Records computed while idle, at alpha 0, 0.5 and 1 of new surfaces (--speculate).",
            speculative_records.load());
-    metric("speculations_yielded_total", "counter",
-           "Speculative computations stopped to free a worker for a client (run again later).",
-           speculations_yielded.load());
     metric("speculations_pending", "gauge", "Speculative computations waiting or running.",
            speculations_pending.load());
     metric("request_jobs", "gauge",

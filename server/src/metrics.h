@@ -33,10 +33,10 @@ struct Metrics {
     std::atomic<uint64_t> bytes_received{0};
     std::atomic<int64_t> reductions_running{0};    // records being computed now
     std::atomic<uint64_t> reductions_cancelled{0}; // computations stopped: nobody waited any more
+    std::atomic<uint64_t> reductions_yielded{0};   // stopped to free a worker; run again later
     std::atomic<uint64_t> previews_sent{0};
-    std::atomic<uint64_t> speculative_records{0};  // records made while idle (--speculate)
-    std::atomic<uint64_t> speculations_yielded{0}; // stopped to free a worker; run again later
-    std::atomic<int64_t> speculations_pending{0};  // waiting or running
+    std::atomic<uint64_t> speculative_records{0}; // records made while idle (--speculate)
+    std::atomic<int64_t> speculations_pending{0}; // waiting or running
     // Request jobs from queueing until they stop (cancelled ones too), and what they hold.
     std::atomic<int64_t> request_jobs{0};
     std::atomic<int64_t> request_job_bytes{0};

@@ -47,7 +47,8 @@ std::shared_ptr<const ComputedRecord> Reductions::cached_record(const std::strin
 std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& params,
                                                          const std::string& key, size_t depth,
                                                          const std::atomic<bool>& cancelled,
-                                                         bool* computed, Run run) {
+                                                         bool* computed,
+                                                         const std::atomic<bool>* yield) {
     if (computed) *computed = false;
     if (auto found = cached_record(key, depth)) return found;
     auto out = cache_.get<ComputedRecord>(
@@ -62,7 +63,9 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
             options.keep_fraction = 0;
             options.target_triangles = depth;
             options.threads = engine_threads_;
-            options.progress = [&cancelled](double) { return !cancelled.load(); };
+            options.progress = [&cancelled, yield](double) {
+                return !cancelled.load() && !(yield && yield->load());
+            };
             const auto start = std::chrono::steady_clock::now();
             ++metrics_.reductions_running;
             std::optional<ProgressiveRecord> record;
@@ -74,8 +77,7 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
             }
             // Counted cancelled before it stops counting as running: whoever sees it stop sees why.
             if (record->stop() == StopReason::Cancelled) {
-                ++(run == Run::Speculative ? metrics_.speculations_yielded
-                                           : metrics_.reductions_cancelled);
+                ++(cancelled.load() ? metrics_.reductions_cancelled : metrics_.reductions_yielded);
                 --metrics_.reductions_running;
                 throw Cancelled();
             }
@@ -110,14 +112,16 @@ std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& comp
         });
 }
 
-std::shared_ptr<const ComputedRecord>
-record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
-           size_t depth, const std::atomic<bool>& cancelled, bool* computed) {
+std::shared_ptr<const ComputedRecord> record_for(Reductions& reductions,
+                                                 const ReductionParams& params,
+                                                 const std::string& key, size_t depth,
+                                                 const std::atomic<bool>& cancelled, bool* computed,
+                                                 const std::atomic<bool>* yield) {
     for (;;) {
         try {
-            return reductions.record(params, key, depth, cancelled, computed);
+            return reductions.record(params, key, depth, cancelled, computed, yield);
         } catch (const Cancelled&) {
-            if (cancelled.load()) throw;
+            if (cancelled.load() || (yield && yield->load())) throw;
         }
     }
 }

@@ -51,10 +51,6 @@ public:
 
 class Reductions {
 public:
-    // Who asked for a run: a client (stopped: counted cancelled) or speculation (stopped: it
-    // yielded its worker to a client and runs again later).
-    enum class Run { Asked, Speculative };
-
     // `engine_threads`: Options::threads of every run (the pool's threads times these stay
     // within the cores).
     Reductions(SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
@@ -64,11 +60,12 @@ public:
     // to that depth (and no further: a level is ready as soon as the run has passed it).
     // Another caller's run of the same key and depth is waited for. Throws
     // std::invalid_argument for an unknown surface or field, InputError from the library,
-    // Cancelled when `cancelled` (or, for a run this call waited for, its own flag) stopped it.
+    // Cancelled when `cancelled` (or, for a run this call waited for, its own flag) stopped it,
+    // or `yield` (its worker is wanted for another client's job; counted apart).
     std::shared_ptr<const ComputedRecord> record(const ReductionParams& params,
                                                  const std::string& key, size_t depth,
                                                  const std::atomic<bool>& cancelled, bool* computed,
-                                                 Run run = Run::Asked);
+                                                 const std::atomic<bool>* yield = nullptr);
     // A cached record of `key` that reaches `depth` triangles, or null (no computation).
     std::shared_ptr<const ComputedRecord> cached_record(const std::string& key, size_t depth);
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,
@@ -86,9 +83,11 @@ private:
 };
 
 // Reductions::record, computing the record for this caller if another caller's run of the same
-// key was cancelled under it; throws Cancelled only when `cancelled` is set.
-std::shared_ptr<const ComputedRecord>
-record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
-           size_t depth, const std::atomic<bool>& cancelled, bool* computed);
+// key was cancelled under it; throws Cancelled only when `cancelled` or `yield` is set.
+std::shared_ptr<const ComputedRecord> record_for(Reductions& reductions,
+                                                 const ReductionParams& params,
+                                                 const std::string& key, size_t depth,
+                                                 const std::atomic<bool>& cancelled, bool* computed,
+                                                 const std::atomic<bool>* yield = nullptr);
 
 } // namespace ddsimp::server

@@ -72,6 +72,10 @@ uint64_t Service::compute(uint64_t client, Scheduler::Work work) {
     return scheduler_.submit(client, std::move(work));
 }
 
+uint64_t Service::compute(uint64_t client, Scheduler::Resumable work) {
+    return scheduler_.submit(client, std::move(work));
+}
+
 asio::any_io_executor Service::preview_executor() {
     if (preview_pool_) return preview_pool_->get_executor();
     return io_.get_executor();

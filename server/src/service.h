@@ -85,6 +85,7 @@ private:
     // false if the client has too many jobs waiting.
     // Returns the scheduler's ticket (0: refused).
     uint64_t compute(uint64_t client, Scheduler::Work work);
+    uint64_t compute(uint64_t client, Scheduler::Resumable work);
     // While the pool is idle, the records of the default options at alpha 0, 0.5 and 1 of a new
     // surface (speculation.cpp).
     void speculate(const std::string& surface);
@@ -101,8 +102,9 @@ private:
     };
     struct RequestJob;
     struct PreparedLevel;
-    // On the pool: the request's record (as deep as its coarsest level), its levels.
-    void run_request(const std::shared_ptr<RequestJob>& job);
+    // On the pool: the request's record (as deep as its coarsest level), its levels. False
+    // when it gave its worker up (`yield`) before the record was done: it runs again later.
+    bool run_request(const std::shared_ptr<RequestJob>& job, const std::atomic<bool>& yield);
     // Makes the levels `indices` one at a time, handing each to `emit`.
     void prepare_levels(const RequestJob& job, const ComputedRecord& rec,
                         const std::vector<size_t>& indices, bool computed,

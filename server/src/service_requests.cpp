@@ -69,6 +69,7 @@ struct Service::RequestJob {
     CancelFlag ended;                 // this request's: cancelled, superseded or disconnected
     Clock::time_point start;
     bool exact_sent = false; // network thread: a level went out, so a late preview is dropped
+    size_t sent_early = 0;   // pool: finest levels sent before a yield (never sent twice)
     size_t accounted_bytes = 0;
 
     // What the job holds, for the accounting in /metrics.
@@ -160,7 +161,8 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     const bool ready =
         reductions_.cached_record(
             job->key, *std::min_element(job->targets.begin(), job->targets.end())) != nullptr;
-    const uint64_t ticket = compute(c->id(), [this, job] { run_request(job); });
+    const uint64_t ticket = compute(
+        c->id(), [this, job](const std::atomic<bool>& yield) { return run_request(job, yield); });
     if (ticket == 0) {
         computations_.leave(job->key, waiter);
         return refuse(v1::Error::RESOURCE_EXHAUSTED,
@@ -178,12 +180,13 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     if (!ready && c->has_capability("previews")) send_preview(job);
 }
 
-void Service::run_request(const std::shared_ptr<RequestJob>& job) {
+bool Service::run_request(const std::shared_ptr<RequestJob>& job, const std::atomic<bool>& yield) {
     const uint64_t rid = job->request_id;
     v1::Error error;
     error.set_request_id(rid);
     std::vector<PreparedLevel> levels;
-    std::vector<size_t> todo = job->finest_first;
+    std::vector<size_t> todo(job->finest_first.begin() + ptrdiff_t(job->sent_early),
+                             job->finest_first.end());
     // Levels are made and queued one at a time; the newest is held back to go out with the
     // request's end.
     std::optional<PreparedLevel> held;
@@ -210,20 +213,23 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
             // The finest level leaves once a run has passed it, before the run to the coarsest
             // (a progressive request keeps its order: a whole coarsest level, then refinements).
             auto first = record_for(reductions_, job->params, job->key, job->targets[todo.front()],
-                                    *job->cancelled, &computed);
+                                    *job->cancelled, &computed, &yield);
             prepare_levels(*job, *first, {todo.front()}, computed, emit);
             deliver(job, vector_of(std::move(*held)), {}, false);
             held.reset();
             todo.erase(todo.begin());
+            ++job->sent_early;
             if (job->ended->load()) throw Cancelled();
         }
         if (!rec)
             rec = record_for(reductions_, job->params, job->key, coarsest, *job->cancelled,
-                             &computed);
+                             &computed, &yield);
         std::reverse(todo.begin(), todo.end()); // the rest coarsest first: all are ready
         prepare_levels(*job, *rec, todo, computed, emit);
         if (held) levels = vector_of(std::move(*held));
     } catch (const Cancelled&) {
+        // Its worker went to another client's job: it runs again, first of its client's.
+        if (yield.load() && !job->ended->load() && !job->cancelled->load()) return false;
         error.set_code(v1::Error::CANCELLED);
         error.set_message("request " + std::to_string(rid) + " cancelled");
     } catch (const std::invalid_argument& e) {
@@ -238,6 +244,7 @@ void Service::run_request(const std::shared_ptr<RequestJob>& job) {
     }
     metrics_.observe_job_seconds(std::chrono::duration<double>(Clock::now() - job->start).count());
     deliver(job, std::move(levels), std::move(error), true);
+    return true;
 }
 
 void Service::prepare_levels(const RequestJob& job, const ComputedRecord& rec,

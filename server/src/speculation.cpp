@@ -31,9 +31,10 @@ void Service::speculate(const std::string& surface) {
         const std::string key = protocol::result_key(surface, params.options);
         ++metrics_.speculations_pending;
         scheduler_.submit_background([this, params, key](const std::atomic<bool>& yield) {
+            static const std::atomic<bool> never{false}; // nobody cancels speculation
             try {
                 bool computed = false;
-                reductions_.record(params, key, 0, yield, &computed, Reductions::Run::Speculative);
+                reductions_.record(params, key, 0, never, &computed, &yield);
                 if (computed) ++metrics_.speculative_records;
             } catch (const Cancelled&) {
                 if (yield.load()) return false; // a client needed the worker: again later

@@ -241,6 +241,41 @@ TEST_F(FairCompute, AnotherClientsRequestRunsNextAfterTheJobRunning) {
     EXPECT_LE(position, 2u) << "finished " << position << "th of 5";
 }
 
+class FairComputeTwoWorkers : public AnswersAtOnce {
+protected:
+    FairComputeTwoWorkers() : AnswersAtOnce({"--threads", "2"}) {}
+};
+
+LevelRequest raw_request(const std::string& surface, double alpha, float keep) {
+    LevelRequest request;
+    request.surface = surface;
+    request.alpha = alpha;
+    request.keep = {keep};
+    request.encoding = Encoding::Raw;
+    return request;
+}
+
+// Both workers run one client's jobs: another client's request takes the newer job's worker at
+// once, and that job runs again afterwards, with the library's bytes.
+TEST_F(FairComputeTwoWorkers, AClientWithNothingRunningTakesAWorkerFromOneRunningTwo) {
+    const Surface large = sphere(7), small = sphere(3); // 327,680 and 1,280 triangles
+    Client busy, other;
+    busy.connect(local(server_.port));
+    other.connect(local(server_.port));
+    const std::string large_id = busy.upload(large, "large").surface;
+    const std::string small_id = other.upload(small, "small").surface;
+    std::vector<PendingRequest> burst;
+    for (double alpha : {0.2, 0.7})
+        burst.push_back(busy.request(raw_request(large_id, alpha, 0.05f)));
+    ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_reductions_running", 2));
+
+    const Level mine = other.request(raw_request(small_id, 0.3, 0.1f)).levels[0].get();
+    EXPECT_TRUE(test::same_bytes(mine.mesh, offline(small, 0.3, 0.1)));
+    EXPECT_EQ(test::metric(server_.http_port, "ddsimp_reductions_yielded_total"), 1);
+    EXPECT_TRUE(test::same_bytes(burst[0].levels[0].get().mesh, offline(large, 0.2, 0.05)));
+    EXPECT_TRUE(test::same_bytes(burst[1].levels[0].get().mesh, offline(large, 0.7, 0.05)));
+}
+
 // Speculation (on by default; the test harness turns it off elsewhere).
 class Speculation : public AnswersAtOnce {
 protected:
@@ -304,7 +339,7 @@ TEST_F(SpeculationOneWorker, YieldsItsWorkerToAClientsJob) {
     request.encoding = Encoding::Raw;
     EXPECT_TRUE(
         test::same_bytes(client.request(request).levels[0].get().mesh, offline(small, 0.3, 0.1)));
-    EXPECT_GE(test::metric(server_.http_port, "ddsimp_speculations_yielded_total"), 1);
+    EXPECT_GE(test::metric(server_.http_port, "ddsimp_reductions_yielded_total"), 1);
     EXPECT_GT(test::metric(server_.http_port, "ddsimp_speculations_pending"), 0);
 }
 
