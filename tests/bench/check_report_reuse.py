@@ -83,7 +83,9 @@ with open(os.path.join(latest, "scaling.csv"), newline="") as f:
                                         if row["median_cpu_seconds"] else None):
                 failures.append(f"{key}: cpu_seconds {r.get('cpu_seconds')}, the report has "
                                 f"{row['median_cpu_seconds']}")
-            if r.get("triangles_out") != int(row["triangles_out"]):
+            # a run that crashed or timed out has no triangles_out
+            if r.get("triangles_out") != (int(row["triangles_out"]) if row["triangles_out"]
+                                          else None):
                 failures.append(f"{key}: triangles_out {r.get('triangles_out')}")
 
 extra = set(os.listdir(runs)) - expected_files
