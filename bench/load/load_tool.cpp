@@ -9,6 +9,11 @@
 // error, and the server's peak memory (VmHWM of --server-pid) and its drop and error counters
 // (/metrics on --http-port). The main surface's levels are computed once before the clock starts
 // (--cold: not). The random choices are seeded: the same flags make the same load.
+//
+// --hostile runs every attack of the hostile-clients issue at once while normal clients ask for
+// a cached level, and reports the issue's goals (hostile_mode.h).
+#include "hostile_mode.h"
+
 #include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include "ddsimp/client.h"
@@ -253,12 +258,36 @@ int main(int argc, char** argv) {
     app.add_option("--server-pid", s.server_pid, "report this process's VmHWM (same machine)");
     app.add_option("--http-port", s.http_port, "report the server's /metrics counters");
     app.add_option("--seed", s.seed, "of the random choices")->capture_default_str();
-    bool json = false, warm = true;
+    bool json = false, warm = true, hostile = false;
     app.add_flag("--json", json, "one JSON line instead of the table");
     app.add_flag("!--cold", warm,
                  "do not compute the main surface's levels before the clock starts");
+    load::HostileSettings h;
+    app.add_flag("--hostile", hostile,
+                 "every attack at once while --clients normal clients ask for a cached level of "
+                 "--surface (needs --server-pid and --http-port)");
+    app.add_option("--attack-seconds", h.attack_seconds, "--hostile: how long the attack lasts")
+        ->capture_default_str()
+        ->check(CLI::Range(1.0, 3600.0));
+    app.add_option("--server-log", h.server_log,
+                   "--hostile: the server's log, checked for lines the logger did not write");
     CLI11_PARSE(app, argc, argv);
     try {
+        if (hostile) {
+            ConnectOptions o;
+            parse_server_address(s.server, o);
+            h.host = o.host;
+            h.port = o.port;
+            h.http_port = uint16_t(s.http_port);
+            h.token = s.token;
+            h.surface = s.surface;
+            h.server_pid = s.server_pid;
+            h.alpha = s.alpha;
+            h.keeps = s.keeps;
+            h.normal_clients = s.clients;
+            h.json = json;
+            return load::run_hostile(h);
+        }
         parse_mix(s.mix);
         std::string main_surface;
         double warm_up = 0;

@@ -5,6 +5,9 @@
 #
 # Usage: bench/load/run.sh [ddsimp-load flags...]
 #        e.g. bench/load/run.sh --surface bench/data/carotid-1m.vtp -n 16 -m 50
+#        bench/load/run.sh --hostile --surface bench/data/carotid-1m.vtp --keeps 0.1
+#          (every attack at once: the server gets a token, logs at info level and the limits of
+#          $hostile_flags below unless DDSIMP_LOAD_SERVER_FLAGS is set; its log is checked)
 # Environment: DDSIMP_BENCH_BUILD_DIR (programs already built there; no preset build),
 #              DDSIMP_LOAD_SERVER_FLAGS (more flags for the server, e.g. "--threads 4").
 set -euo pipefail
@@ -20,12 +23,29 @@ if [[ -z "$build" ]]; then
 fi
 
 server_flags=${DDSIMP_LOAD_SERVER_FLAGS:-}
+hostile=0
+for arg in "$@"; do [[ "$arg" == --hostile ]] && hostile=1; done
+if ((hostile)); then
+    # Limits sized so that the documented memory total (docs/operations.md#memory) means
+    # something on a small machine, the cache large enough to hold the carotid's record (about
+    # 75 MB); the upload timeout short enough to expire during the attack.
+    hostile_flags="--max-clients 128 --max-frame-bytes 1048576 --max-queue-mb 32 --cache-mb 256
+        --surfaces-mb 64 --max-upload-mb 256 --max-remembered-kb 4096 --upload-timeout 20
+        --handshake-timeout 5"
+    server_flags=${DDSIMP_LOAD_SERVER_FLAGS:-$hostile_flags}
+    server_log_level=info
+    DDSIMP_TOKEN=${DDSIMP_TOKEN:-$(python3 -c 'import secrets; print(secrets.token_hex(16))')}
+    export DDSIMP_TOKEN
+fi
 # shellcheck source=bench/start-server.sh
 . "$root/bench/start-server.sh"
 status=0
 "$build/bench/load/ddsimp-load" --server "127.0.0.1:$port" --http-port "$http_port" \
-    --server-pid "$server" "$@" || status=$?
-if grep -q . "$data_dir/server.log"; then
+    --server-pid "$server" --server-log "$data_dir/server.log" "$@" || status=$?
+if ((hostile)); then
+    echo "server log: $(wc -l <"$data_dir/server.log") lines; the last warnings:"
+    grep -a -E '^[^ ]+ (warning|error|critical) ' "$data_dir/server.log" | tail -5 || true
+elif grep -q . "$data_dir/server.log"; then
     echo "server log (warnings and errors):"
     tail -20 "$data_dir/server.log"
 fi

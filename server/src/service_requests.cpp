@@ -161,9 +161,17 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     const bool ready =
         reductions_.cached_record(
             job->key, *std::min_element(job->targets.begin(), job->targets.end())) != nullptr;
-    const uint64_t ticket = compute(
-        c->id(), [this, job](const std::atomic<bool>& yield) { return run_request(job, yield); });
-    if (ticket == 0) {
+    // A request whose levels are all ready is answered on the preview thread: it never waits
+    // behind a computation, however busy the workers are (ticket 0: nothing to withdraw).
+    uint64_t ticket = 0;
+    if (ready && preview_pool_) {
+        asio::post(preview_executor(), [this, job] {
+            static const std::atomic<bool> never_yield{false};
+            run_request(job, never_yield);
+        });
+    } else if ((ticket = compute(c->id(), [this, job](const std::atomic<bool>& yield) {
+                    return run_request(job, yield);
+                })) == 0) {
         computations_.leave(job->key, waiter);
         return refuse(v1::Error::RESOURCE_EXHAUSTED,
                       "too many jobs of yours waiting (at most " +

@@ -263,5 +263,22 @@ TEST_F(HostileRequests, ARequestWhoseLevelsCannotFitIsRefusedUpFront) {
     EXPECT_EQ(metric("ddsimp_connections_dropped_total"), 0);
 }
 
+// A request whose levels are cached is answered while the only worker computes another client's
+// surface: it does not wait behind that computation.
+TEST_F(HostileRequests, ACachedLevelIsAnsweredWhileTheWorkersAreBusy) {
+    start({});
+    attacker_->send(level_request(small_, {0.5f}, 1));
+    EXPECT_FALSE(attacker_->level().begin.cached());
+    EXPECT_EQ(attacker_->expect<v1::RequestDone>().request_id(), 1u);
+    hold_the_worker();
+    attacker_->send(level_request(small_, {0.5f}, 2));
+    const RawClient::Level again = attacker_->level();
+    EXPECT_EQ(again.begin.request_id(), 2u);
+    EXPECT_TRUE(again.begin.cached());
+    EXPECT_EQ(attacker_->expect<v1::RequestDone>().request_id(), 2u);
+    EXPECT_EQ(metric("ddsimp_reductions_running"), 1) << "answered only once the worker was free";
+    cancel_blocker();
+}
+
 } // namespace
 } // namespace ddsimp::test
