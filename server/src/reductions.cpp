@@ -4,6 +4,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -64,7 +65,6 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
             Options options = params.options;
             options.keep_fraction = 0;
             options.target_triangles = depth;
-            options.threads = engine_threads_;
             options.progress = [&cancelled, yield](double) {
                 return !cancelled.load() && !(yield && yield->load());
             };
@@ -74,7 +74,9 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
                 ~TrimAfterTheRun() { malloc_trim(0); }
             } trim_after_the_run;
             const auto start = std::chrono::steady_clock::now();
-            ++metrics_.reductions_running;
+            // The cores shared with the runs in progress: a run alone uses them all.
+            const int64_t runs = ++metrics_.reductions_running;
+            options.threads = std::max(1, cores_ / int(std::max<int64_t>(1, runs)));
             std::optional<ProgressiveRecord> record;
             try {
                 record.emplace(ProgressiveRecord::build(*surface, options));

@@ -51,10 +51,10 @@ public:
 
 class Reductions {
 public:
-    // `engine_threads`: Options::threads of every run (the pool's threads times these stay
-    // within the cores).
-    Reductions(SurfaceStore& store, ResultCache& cache, Metrics& metrics, int engine_threads)
-        : store_(store), cache_(cache), metrics_(metrics), engine_threads_(engine_threads) {}
+    // `cores`: the engine's threads shared among the runs in progress when a run starts (a run
+    // alone takes them all; the bytes are the same for any thread count).
+    Reductions(SurfaceStore& store, ResultCache& cache, Metrics& metrics, int cores)
+        : store_(store), cache_(cache), metrics_(metrics), cores_(cores) {}
 
     // A record of `params` that holds every level down to `depth` triangles: cached, or run now
     // to that depth (and no further: a level is ready as soon as the run has passed it).
@@ -75,7 +75,7 @@ private:
     SurfaceStore& store_;
     ResultCache& cache_;
     Metrics& metrics_;
-    const int engine_threads_;
+    const int cores_;
     // Per key, the runs made: the depth each reaches (0: as far as the surface allows) -> the
     // depth it was run to, to find a cached record deep enough.
     std::mutex depths_mutex_;

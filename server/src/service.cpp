@@ -42,11 +42,8 @@ std::string describe_repairs(const RepairReport& r) {
     return out;
 }
 
-// The engine's threads per computation: the compute pool's threads times these stay within the
-// cores.
-int engine_threads(int pool_threads) {
-    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
-    return std::max(1, cores / std::max(1, pool_threads));
+int cores() {
+    return int(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 } // namespace
@@ -54,8 +51,7 @@ int engine_threads(int pool_threads) {
 Service::Service(asio::io_context& io, const Config& config)
     : io_(io), config_(config), tokens_(config_), store_(config.data_dir, config.surfaces_mb << 20),
       quotas_(config_, store_, metrics_), cache_(config.cache_mb << 20),
-      reductions_(store_, cache_, metrics_, engine_threads(config.threads)),
-      sessions_(config.max_sessions),
+      reductions_(store_, cache_, metrics_, cores()), sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
                  kMaxRequestsPerConnection + kMaxUploadsPerConnection + kMaxSessionsPerConnection),
       known_results_(config.max_remembered_kb << 10) {
