@@ -54,6 +54,29 @@ ErrorCode error_of(const std::shared_future<Level>& level) {
     return ErrorCode::Internal;
 }
 
+LevelRequest raw_request(const std::string& surface, double alpha, float keep) {
+    LevelRequest request;
+    request.surface = surface;
+    request.alpha = alpha;
+    request.keep = {keep};
+    request.encoding = Encoding::Raw;
+    return request;
+}
+
+// Every mesh a one-level request received, previews included, and its exact level.
+struct Answer {
+    std::vector<Level> seen;
+    Level exact;
+};
+Answer ask(Client& client, const LevelRequest& request) {
+    Answer answer;
+    PendingRequest pending =
+        client.request(request, [&](const Level& l) { answer.seen.push_back(l); });
+    pending.done.get();
+    answer.exact = pending.levels[0].get();
+    return answer;
+}
+
 class AnswersAtOnce : public ::testing::Test {
 protected:
     explicit AnswersAtOnce(std::vector<std::string> flags = {})
@@ -246,15 +269,6 @@ protected:
     FairComputeTwoWorkers() : AnswersAtOnce({"--threads", "2"}) {}
 };
 
-LevelRequest raw_request(const std::string& surface, double alpha, float keep) {
-    LevelRequest request;
-    request.surface = surface;
-    request.alpha = alpha;
-    request.keep = {keep};
-    request.encoding = Encoding::Raw;
-    return request;
-}
-
 // Both workers run one client's jobs: another client's request takes the newer job's worker at
 // once, and that job runs again afterwards, with the library's bytes.
 TEST_F(FairComputeTwoWorkers, AClientWithNothingRunningTakesAWorkerFromOneRunningTwo) {
@@ -294,30 +308,21 @@ TEST_F(Speculation, AnUploadGetsRecordsAtThreeAlphasWhileIdle) {
     const Surface input = sphere(5);
     Client client;
     client.connect(local(server_.port));
-    LevelRequest request;
-    request.surface = client.upload(input, "sphere").surface;
+    const std::string surface = client.upload(input, "sphere").surface;
     ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_speculative_records_total", 3));
     ASSERT_TRUE(metric_reaches(server_.http_port, "ddsimp_speculations_pending", 0));
 
-    request.alpha = 0.4;
-    request.keep = {0.1};
-    request.encoding = Encoding::Raw;
-    std::vector<Level> seen;
-    PendingRequest pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
-    pending.done.get();
-    ASSERT_EQ(seen.size(), 2u);
-    EXPECT_TRUE(seen[0].preview);
-    EXPECT_TRUE(test::same_bytes(seen[0].mesh, offline(input, 0.5, 0.1)));
-    EXPECT_TRUE(test::same_bytes(pending.levels[0].get().mesh, offline(input, 0.4, 0.1)));
+    const Answer between = ask(client, raw_request(surface, 0.4, 0.1f));
+    ASSERT_EQ(between.seen.size(), 2u);
+    EXPECT_TRUE(between.seen[0].preview);
+    EXPECT_TRUE(test::same_bytes(between.seen[0].mesh, offline(input, 0.5, 0.1)));
+    EXPECT_TRUE(test::same_bytes(between.exact.mesh, offline(input, 0.4, 0.1)));
 
-    request.alpha = 1;
-    seen.clear();
-    pending = client.request(request, [&](const Level& l) { seen.push_back(l); });
-    pending.done.get();
-    ASSERT_EQ(seen.size(), 1u);
-    EXPECT_FALSE(seen[0].preview);
-    EXPECT_TRUE(seen[0].cached);
-    EXPECT_TRUE(test::same_bytes(seen[0].mesh, offline(input, 1, 0.1)));
+    const Answer ready = ask(client, raw_request(surface, 1, 0.1f));
+    ASSERT_EQ(ready.seen.size(), 1u);
+    EXPECT_FALSE(ready.seen[0].preview);
+    EXPECT_TRUE(ready.seen[0].cached);
+    EXPECT_TRUE(test::same_bytes(ready.exact.mesh, offline(input, 1, 0.1)));
 }
 
 class SpeculationOneWorker : public Speculation {
