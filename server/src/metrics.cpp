@@ -68,7 +68,7 @@ std::string Metrics::render(const Snapshot& s) const {
            "Records computed while idle, at alpha 0, 0.5 and 1 of new surfaces (--speculate).",
            speculative_records.load());
     metric("speculations_pending", "gauge", "Speculative computations waiting or running.",
-           speculations_pending.load());
+           s.speculations_pending);
     metric("request_jobs", "gauge",
            "Request jobs queued or running, cancelled ones included until they stop.",
            request_jobs.load());

@@ -36,7 +36,6 @@ struct Metrics {
     std::atomic<uint64_t> reductions_yielded{0};   // stopped to free a worker; run again later
     std::atomic<uint64_t> previews_sent{0};
     std::atomic<uint64_t> speculative_records{0}; // records made while idle (--speculate)
-    std::atomic<int64_t> speculations_pending{0}; // waiting or running
     // Request jobs from queueing until they stop (cancelled ones too), and what they hold.
     std::atomic<int64_t> request_jobs{0};
     std::atomic<int64_t> request_job_bytes{0};
@@ -54,6 +53,7 @@ struct Metrics {
         size_t surface_limit_bytes = 0, surface_loads = 0, surface_evictions = 0;
         size_t cache_hits = 0, cache_misses = 0, cache_bytes = 0, cache_entries = 0;
         size_t computations = 0, evictions = 0;
+        size_t speculations_pending = 0; // the scheduler's background work, waiting or running
     };
     std::string render(const Snapshot& s) const;
 

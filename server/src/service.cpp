@@ -130,6 +130,7 @@ std::string Service::metrics_text() {
     s.surface_loads = r.loads, s.surface_evictions = r.evictions;
     s.cache_hits = cs.hits, s.cache_misses = cs.misses, s.cache_bytes = cs.bytes;
     s.cache_entries = cs.entries, s.computations = cs.computations, s.evictions = cs.evictions;
+    s.speculations_pending = scheduler_.background();
     return metrics_.render(s);
 }
 

@@ -29,7 +29,6 @@ void Service::speculate(const std::string& surface) {
         protocol::set_options(request, defaults);
         ReductionParams params{surface, protocol::options_from(request)};
         const std::string key = protocol::result_key(surface, params.options);
-        ++metrics_.speculations_pending;
         scheduler_.submit_background([this, params, key](const std::atomic<bool>& yield) {
             static const std::atomic<bool> never{false}; // nobody cancels speculation
             try {
@@ -42,7 +41,6 @@ void Service::speculate(const std::string& surface) {
                 spdlog::info("no speculative record of {} at alpha {}: {}", params.surface,
                              params.options.alpha, loggable(e.what(), 300));
             }
-            --metrics_.speculations_pending;
             boost::asio::post(io_, [this, key, params] {
                 if (reductions_.cached_record(key, 0)) remember_result(key, params);
             });
