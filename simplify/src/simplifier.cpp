@@ -63,7 +63,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     listed_.assign(ids, 0);
     raised_.assign(ids, 0);
     epoch_.assign(capacity, 0);
-    busy_.assign(capacity, 0);
+    busy_.assign(capacity, {0, 0});
     rekey_.assign(capacity, 0);
     if (collapse) fail_at_.assign(surface.triangles.size(), kNone);
 
@@ -262,46 +262,6 @@ bool Simplifier::rank_candidates(size_t& share) {
     return true;
 }
 
-template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) const {
-    auto star = [&](uint32_t v) {
-        if (!visit(v)) return false;
-        const uint32_t start = mesh_.out[v];
-        uint32_t h = start, last = kNone;
-        do {
-            if (!visit(mesh_.dest(h))) return false;
-            last = h;
-            h = mesh_.twin[detail::prev(h)];
-        } while (h != kNone && h != start);
-        const uint32_t closing = detail::prev(last); // on a boundary, the fan's other side
-        return mesh_.twin[closing] != kNone || visit(mesh_.origin[closing]);
-    };
-    return options_.strategy == Strategy::EdgeCollapse
-               ? star(mesh_.origin[id]) && star(mesh_.dest(id))
-               : star(id);
-}
-
-Simplifier::Reserve Simplifier::reserve(uint32_t id, uint32_t taken_stamp, uint32_t round_stamp) {
-    uint32_t near[kMaxNeighbourhood];
-    size_t n = 0;
-    Reserve found = Reserve::Selected;
-    walk_neighbourhood(id, [&](uint32_t v) {
-        if (busy_[v] == taken_stamp || n == kMaxNeighbourhood)
-            found = Reserve::Out;
-        else if (busy_[v] == round_stamp)
-            found = Reserve::Blocked;
-        else
-            near[n++] = v;
-        return found == Reserve::Selected;
-    });
-    if (found == Reserve::Selected)
-        for (size_t i = 0; i < n; ++i) busy_[near[i]] = round_stamp;
-    return found;
-}
-
-void Simplifier::stamp_neighbourhood(uint32_t id, uint32_t stamp) {
-    walk_neighbourhood(id, [&](uint32_t v) { return busy_[v] = stamp, true; });
-}
-
 bool Simplifier::waits(uint32_t id, float key, float planned) {
     if ((planned > std::max(key, share_limit_) && !raised_[id]) || planned > options_.max_weight)
         return raised_[id] = 1, true;
@@ -336,11 +296,10 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     ++pass_;
 
     // Select, in rank order: a candidate whose neighbourhood no candidate selected before it
-    // touches reserves that neighbourhood. The selection is sequential and cheap (a walk that
-    // stops at the first reserved vertex); the checks, the costly part, then run on the threads,
-    // each on the surface as the pass found it. What is selected never depends on a check being
-    // done yet, so nothing depends on the thread count. Rounds repeat this among the candidates
-    // that only a refused or waiting one blocked: its neighbourhood is free again.
+    // touches (selection.cpp). The checks then run on the threads, each on the surface as the
+    // pass found it. What is selected never depends on a check being done yet, so nothing
+    // depends on the thread count. Rounds repeat this among the candidates that only a refused
+    // or waiting one blocked: its neighbourhood is free again.
     taken_.clear();
     pending_.clear();
     for (uint32_t i = 0; i < share && order_[i].weight() <= options_.max_weight; ++i)
@@ -348,23 +307,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     const uint32_t taken_stamp = ++stamp_;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
         const uint32_t round_stamp = ++stamp_;
-        selected_.clear();
-        size_t next = 0;
-        for (size_t j = 0; j < pending_.size(); ++j) {
-            const uint32_t i = pending_[j];
-            switch (reserve(pool_[order_[i].id].id, taken_stamp, round_stamp)) {
-            case Reserve::Selected:
-                selected_.push_back(i);
-                break;
-            case Reserve::Blocked:
-                pending_[next++] = i;
-                break; // by this round's selection
-            case Reserve::Out:
-                break; // next to a taken operation, or too large
-            }
-            if ((j + 1) % kBlock == 0 && !checkpoint()) return stop = StopReason::Cancelled, true;
-        }
-        pending_.resize(next);
+        if (!select(taken_stamp, round_stamp)) return stop = StopReason::Cancelled, true;
         const size_t w = selected_.size();
         checked_.resize(w);
         if (collapse)
@@ -379,7 +322,12 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
                 }
             }) < w)
             return stop = StopReason::Cancelled, true;
-        // The taken ones keep their neighbourhoods for the rest of the pass.
+        // The taken ones keep their neighbourhoods for the rest of the pass (disjoint: one
+        // round's selection).
+        parallel_.for_each(w, [&](size_t i) {
+            if (checked_[i] == Check::Taken)
+                stamp_neighbourhood(pool_[order_[selected_[i]].id].id, taken_stamp);
+        });
         bool freed = false;
         for (size_t i = 0; i < w; ++i) {
             if (checked_[i] != Check::Taken) {
@@ -387,7 +335,6 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
                 continue;
             }
             const uint32_t rank = selected_[i];
-            stamp_neighbourhood(pool_[order_[rank].id].id, taken_stamp);
             if (collapse) {
                 taken_.push_back({rank, uint32_t(taken_plans_.size())});
                 taken_plans_.push_back(plans_[i]);
@@ -397,6 +344,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
             }
         }
         if (!freed) break; // nothing blocked now is free in another round
+        pend_blocked();
     }
     std::sort(taken_.begin(), taken_.end());
 

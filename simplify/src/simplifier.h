@@ -109,11 +109,16 @@ private:
     // it returns false; returns whether it went through all.
     static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
     template <class F> bool walk_neighbourhood(uint32_t id, F&& visit) const;
-    // Selected: candidate `id`'s neighbourhood was free and is now reserved for this round.
-    // Blocked: a candidate selected earlier in this round holds part of it. Out: it touches an
-    // operation taken this pass (busy_ == taken_stamp) or is larger than kMaxNeighbourhood.
-    enum class Reserve : uint8_t { Selected, Blocked, Out };
-    Reserve reserve(uint32_t id, uint32_t taken_stamp, uint32_t round_stamp);
+    // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
+    // in rank order. A candidate whose neighbourhood no candidate selected before it in this
+    // round holds goes into selected_ and holds it (busy_ stamped round_stamp); one that such a
+    // candidate blocks goes into blocked_, with the index in selected_ of the one that blocks it
+    // in blocked_by_; one next to an operation taken this pass (stamped taken_stamp), or larger
+    // than kMaxNeighbourhood, cannot be selected in this pass. False: cancelled.
+    bool select(uint32_t taken_stamp, uint32_t round_stamp);
+    // The candidates that the round's refused or waiting ones blocked into pending_: the others
+    // are next to a taken operation now.
+    void pend_blocked();
     void stamp_neighbourhood(uint32_t id, uint32_t stamp);
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
@@ -225,14 +230,18 @@ private:
     std::vector<uint8_t> listed_;
     // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
     std::vector<detail::Candidate> order_, scratch_;
-    // busy_[v]: the stamp of what last reserved v. Each pass has a stamp for its taken
+    // busy_[v]: the stamp of what last reserved v and, for a selection round's stamp, the index
+    // in selected_ of the candidate that holds it. Each pass has a stamp for its taken
     // operations' neighbourhoods and each selection round one for what it selected (stamp_
     // counts them), so nothing needs clearing between rounds or passes.
-    std::vector<uint32_t> busy_;
+    struct Hold {
+        uint32_t stamp, holder;
+    };
+    std::vector<Hold> busy_;
     uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
     // ascending), what each one's check found and what its operation needs when applied.
-    std::vector<uint32_t> pending_, selected_;
+    std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
     std::vector<CollapsePlan> plans_;
     std::vector<Removal> removals_;

@@ -1,0 +1,99 @@
+// A pass's selection: among the pass's candidates, in rank order, every one whose neighbourhood
+// no candidate selected before it touches (an independent set, the same for any thread count).
+// The walk goes through the candidates one by one and stops at the first vertex that is not
+// free. It is bound by memory latency, so it fetches the candidates ahead, and a second round
+// walks only the candidates that a refused or waiting one blocked: one that a taken operation
+// blocked cannot be selected in this pass.
+#include "simplifier.h"
+
+namespace ddsimp {
+
+using detail::kNone;
+
+template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) const {
+    auto star = [&](uint32_t v) {
+        if (!visit(v)) return false;
+        const uint32_t start = mesh_.out[v];
+        uint32_t h = start, last = kNone;
+        do {
+            if (!visit(mesh_.dest(h))) return false;
+            last = h;
+            h = mesh_.twin[detail::prev(h)];
+        } while (h != kNone && h != start);
+        const uint32_t closing = detail::prev(last); // on a boundary, the fan's other side
+        return mesh_.twin[closing] != kNone || visit(mesh_.origin[closing]);
+    };
+    return options_.strategy == Strategy::EdgeCollapse
+               ? star(mesh_.origin[id]) && star(mesh_.dest(id))
+               : star(id);
+}
+
+bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
+    selected_.clear();
+    blocked_.clear();
+    blocked_by_.clear();
+    uint32_t near[kMaxNeighbourhood];
+    const size_t count = pending_.size();
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    // The walk's loads depend on one another (the member, its edge's ends, their records), each
+    // a miss in a large surface; so the candidates ahead are fetched a stage at a time, each
+    // stage reading what the one before fetched.
+    constexpr size_t kAhead = 8;
+    auto id_at = [&](size_t j) { return pool_[order_[pending_[j]].id].id; };
+    for (size_t j = 0; j < count; ++j) {
+        if (j + 3 * kAhead < count) __builtin_prefetch(&pool_[order_[pending_[j + 3 * kAhead]].id]);
+        if (j + 2 * kAhead < count) {
+            const uint32_t id = id_at(j + 2 * kAhead);
+            __builtin_prefetch(collapse ? &mesh_.origin[id] : &mesh_.out[id]);
+        }
+        if (j + kAhead < count) {
+            const uint32_t id = id_at(j + kAhead);
+            if (collapse) {
+                const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
+                __builtin_prefetch(&busy_[a]), __builtin_prefetch(&busy_[b]);
+                __builtin_prefetch(&mesh_.out[a]), __builtin_prefetch(&mesh_.out[b]);
+            } else {
+                __builtin_prefetch(&busy_[id]);
+            }
+        }
+        if (j + kAhead / 2 < count) { // the first triangle of each star
+            const uint32_t id = id_at(j + kAhead / 2);
+            for (uint32_t v : {collapse ? mesh_.origin[id] : id, collapse ? mesh_.dest(id) : id}) {
+                const uint32_t h = mesh_.out[v];
+                __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
+            }
+        }
+        const uint32_t rank = pending_[j];
+        size_t n = 0;
+        uint32_t blocker = kNone;
+        const bool free = walk_neighbourhood(pool_[order_[rank].id].id, [&](uint32_t v) {
+            const Hold& hold = busy_[v];
+            if (hold.stamp == taken_stamp || n == kMaxNeighbourhood) return false;
+            if (hold.stamp == round_stamp) return blocker = hold.holder, false;
+            near[n++] = v;
+            return true;
+        });
+        if (free) {
+            const uint32_t holder = uint32_t(selected_.size());
+            for (size_t i = 0; i < n; ++i) busy_[near[i]] = {round_stamp, holder};
+            selected_.push_back(rank);
+        } else if (blocker != kNone) {
+            blocked_.push_back(rank);
+            blocked_by_.push_back(blocker);
+        }
+        if ((j + 1) % kBlock == 0 && !checkpoint()) return false;
+    }
+    return true;
+}
+
+void Simplifier::pend_blocked() {
+    pending_.clear();
+    for (size_t j = 0; j < blocked_.size(); ++j)
+        if (checked_[blocked_by_[j]] != Check::Taken) pending_.push_back(blocked_[j]);
+}
+
+void Simplifier::stamp_neighbourhood(uint32_t id, uint32_t stamp) {
+    walk_neighbourhood(id, [&](uint32_t v) { return busy_[v].stamp = stamp, true; });
+}
+
+} // namespace ddsimp
