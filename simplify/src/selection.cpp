@@ -41,6 +41,7 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
     constexpr size_t kAhead = 8;
     auto id_at = [&](size_t j) { return pool_[order_[pending_[j]].id].id; };
     for (size_t j = 0; j < count; ++j) {
+        if (j > 0 && j % kBlock == 0 && !checkpoint()) return false;
         if (j + 3 * kAhead < count) __builtin_prefetch(&pool_[order_[pending_[j + 3 * kAhead]].id]);
         if (j + 2 * kAhead < count) {
             const uint32_t id = id_at(j + 2 * kAhead);
@@ -63,10 +64,20 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
                 __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
             }
         }
-        const uint32_t rank = pending_[j];
+        const uint32_t rank = pending_[j], id = pool_[order_[rank].id].id;
+        // An edge's far end first: what holds either end shows before the walk reaches it.
+        // Which vertex shows a candidate blocked or out does not change what is selected.
+        if (collapse) {
+            const Hold& far = busy_[mesh_.dest(id)];
+            if (far.stamp == taken_stamp) continue;
+            if (far.stamp == round_stamp) {
+                blocked_.push_back(rank), blocked_by_.push_back(far.holder);
+                continue;
+            }
+        }
         size_t n = 0;
         uint32_t blocker = kNone;
-        const bool free = walk_neighbourhood(pool_[order_[rank].id].id, [&](uint32_t v) {
+        const bool free = walk_neighbourhood(id, [&](uint32_t v) {
             const Hold& hold = busy_[v];
             if (hold.stamp == taken_stamp || n == kMaxNeighbourhood) return false;
             if (hold.stamp == round_stamp) return blocker = hold.holder, false;
@@ -81,7 +92,6 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
             blocked_.push_back(rank);
             blocked_by_.push_back(blocker);
         }
-        if ((j + 1) % kBlock == 0 && !checkpoint()) return false;
     }
     return true;
 }
