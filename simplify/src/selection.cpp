@@ -59,12 +59,16 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
         }
         if (j + kAhead / 2 < count) { // the first triangle of each star
             const uint32_t id = id_at(j + kAhead / 2);
-            for (uint32_t v : {collapse ? mesh_.origin[id] : id, collapse ? mesh_.dest(id) : id}) {
+            auto fetch_star = [&](uint32_t v) {
                 const uint32_t h = mesh_.out[v];
                 __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
-            }
+            };
+            if (collapse)
+                fetch_star(mesh_.origin[id]), fetch_star(mesh_.dest(id));
+            else
+                fetch_star(id);
         }
-        const uint32_t rank = pending_[j], id = pool_[order_[rank].id].id;
+        const uint32_t rank = pending_[j], id = id_at(j);
         // An edge's far end first: what holds either end shows before the walk reaches it.
         // Which vertex shows a candidate blocked or out does not change what is selected.
         if (collapse) {

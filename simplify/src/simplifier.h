@@ -240,7 +240,8 @@ private:
     std::vector<Hold> busy_;
     uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
-    // ascending), what each one's check found and what its operation needs when applied.
+    // ascending), those it blocked with the index in selected_ of one that blocked each (see
+    // select), what each selected one's check found and what its operation needs when applied.
     std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
     std::vector<CollapsePlan> plans_;
