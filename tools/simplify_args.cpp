@@ -50,6 +50,12 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
         ->check(CLI::IsMember({"least-error", "midpoint", "volume"}))
         ->capture_default_str();
     command
+        .add_option("--data", args.data,
+                    "Edge collapse data at the new point: least-error (of the data error, "
+                    "clamped to the two values it replaces) or interpolated (along the edge)")
+        ->check(CLI::IsMember({"least-error", "interpolated"}))
+        ->capture_default_str();
+    command
         .add_option("--terms", args.terms,
                     "What the weight measures: quadrics (error against the input) or paper "
                     "(angle deficit and data gradient)")
@@ -87,6 +93,8 @@ Options simplify_options(const SimplifyArgs& args, const CLI::App& command) {
     options.placement = args.placement == "volume"     ? Placement::VolumePreserving
                         : args.placement == "midpoint" ? Placement::Midpoint
                                                        : Placement::LeastError;
+    options.data_placement =
+        args.data == "interpolated" ? DataPlacement::Interpolated : DataPlacement::LeastError;
     options.terms = args.terms == "paper" ? Terms::AngleDeficitGradient : Terms::ErrorQuadrics;
     options.keep_fraction = args.keep;
     options.target_triangles = command.count("--triangles") ? args.triangles : 0;
@@ -113,6 +121,7 @@ nlohmann::json simplify_json(const SimplifyArgs& args, const Options& options, c
         {"seconds", seconds},
         {"strategy", args.strategy},
         {"placement", args.placement},
+        {"data", args.data},
         {"alpha", args.alpha},
         {"target_triangles", options.target_triangles},
         {"keep_fraction", options.target_triangles ? nlohmann::json(nullptr)

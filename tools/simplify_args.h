@@ -23,6 +23,7 @@ struct SimplifyArgs {
     double max_weight = Options{}.max_weight;
     std::string strategy = "edge";
     std::string placement = "least-error";
+    std::string data = "least-error";
     std::string terms = "quadrics";
     std::vector<std::string> fields;
     double feature_angle = Options{}.feature_angle;

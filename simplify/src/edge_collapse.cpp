@@ -348,9 +348,17 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
         }
     }
 
-    // The new vertex.
+    // The new vertex. Its data of least error is written into its record first: a's data, which
+    // it needs, is n's and gets the blend.
+    float* made = &made_[index * (3 + m.stride)];
     for (int c = 0; c < 3; ++c) m.position_of(n)[c] = float(plan.point[c]);
+    if (least_data())
+        quadrics_.least_data(a, b, plan.point, m.data_of(a), m.data_of(b), plan.along, made + 3);
     m.blend_data(a, b, plan.along, n);
+    if (least_data())
+        for (size_t j = 0; j < quadrics_.components; ++j)
+            if (quadrics_.continuous[j])
+                m.data_of(n)[quadrics_.offset[j]] = made[3 + quadrics_.offset[j]];
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
@@ -377,7 +385,6 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     record_.collapse_[2 * index] = id_[a];
     record_.collapse_[2 * index + 1] = id_[b];
     id_[n] = uint32_t(record_.input_vertices_ + index);
-    float* made = &made_[index * (3 + m.stride)];
     std::copy_n(m.position_of(n), 3, made);
     std::copy_n(m.data_of(n), m.stride, made + 3);
 

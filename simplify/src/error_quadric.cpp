@@ -29,6 +29,13 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     offset.assign(m_all, 0), low.assign(m_all, INFINITY), inv_range.assign(m_all, 0);
     for (size_t j = 0; j < m_all; ++j)
         offset[j] = gradient.components[j].first, inv_range[j] = gradient.components[j].second;
+    continuous.assign(m_all, 0);
+    for (size_t j = 0, start = 0, field = 0; j < m_all; ++j) {
+        while (field < mesh.fields.size() && offset[j] >= start + size_t(mesh.fields[field].second))
+            start += size_t(mesh.fields[field++].second);
+        continuous[j] =
+            field < mesh.fields.size() && mesh.fields[field].first == FieldKind::Continuous;
+    }
     for (uint32_t v = 0; v < mesh.vertex_count; ++v) {
         if (mesh.kind[v] == VertexKind::Dead) continue;
         const float* p = mesh.position_of(v);
@@ -204,6 +211,32 @@ double ErrorQuadrics::at(uint32_t v, uint32_t w, const Vec3& x, const float* fa,
                    inv_range[j];
         });
     return std::max(0.0, e[0] + e[1]);
+}
+
+double ErrorQuadrics::least_data(uint32_t v, uint32_t w, const Vec3& x, const float* fa,
+                                 const float* fb, double t, float* out) const {
+    const double *qv = of(v), *qw = of(w);
+    const double weight = qv[10] + qw[10];
+    if (!(weight > 0)) return 0;
+    const Vec3 y = scale(sub(x, centre), inv_diagonal);
+    double change = 0;
+    for (size_t j = 0; j < components; ++j) {
+        if (!continuous[j]) continue;
+        const size_t gj = kSharedTerms + 4 * j;
+        // E(s) = W s^2 - 2 r s + (terms without s), least at r / W.
+        const double r = qv[gj] * y[0] + qv[gj + 1] * y[1] + qv[gj + 2] * y[2] + qv[gj + 3] +
+                         (qw[gj] * y[0] + qw[gj + 1] * y[1] + qw[gj + 2] * y[2] + qw[gj + 3]);
+        const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
+        const double sa = (a - low[j]) * inv_range[j], sb = (b - low[j]) * inv_range[j];
+        const double blend = (1 - t) * sa + t * sb;
+        const double least = std::clamp(r / weight, std::min(sa, sb), std::max(sa, sb));
+        change += (least - blend) * (weight * (least + blend) - 2 * r);
+        if (out)
+            out[offset[j]] = std::clamp(float(low[j] + least / inv_range[j]),
+                                        std::min(fa[offset[j]], fb[offset[j]]),
+                                        std::max(fa[offset[j]], fb[offset[j]]));
+    }
+    return std::min(0.0, change);
 }
 
 double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,

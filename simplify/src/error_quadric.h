@@ -67,6 +67,9 @@ struct ErrorQuadrics {
     double inv_diagonal = 0;
     std::vector<uint32_t> offset;
     std::vector<double> low, inv_range;
+    // Per component: whether a new vertex may take its value of least error (a Continuous
+    // field's; labels and directions keep their own rules, WorkingMesh::blend_data).
+    std::vector<uint8_t> continuous;
 
     // The quadrics of every live vertex of `mesh` (slots up to `capacity`), from its input
     // triangles and, for the geometry, planes through its boundary edges perpendicular to the
@@ -91,6 +94,13 @@ struct ErrorQuadrics {
     // its work.
     double at(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
               double t) const;
+    // The data of least error of the quadrics of v and w summed, at position x, for every
+    // continuous component: (G.x + D) / W, clamped to the range of the component's values fa and
+    // fb (raw data records), so that it never leaves the values it replaces. Returns how much
+    // lower the summed error is than with the blend (1 - t) fa + t fb (t in [0, 1]: a change
+    // <= 0); with `out` (a data record), writes the values there (raw units, at their offsets).
+    double least_data(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
+                      double t, float* out = nullptr) const;
     // The offset (raw units) from the segment's point of position t, perpendicular to the unit
     // vector `axis`, that lowers the summed error most (`slope` from along); directions the
     // quadrics hardly determine are left out (a truncated inverse).

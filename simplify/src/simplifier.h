@@ -209,6 +209,11 @@ private:
     // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
     detail::ErrorQuadrics quadrics_;
     bool quadric_terms_ = false, least_error_ = false;
+    // DataPlacement::LeastError with data in the quadrics: a collapse's new point takes its data
+    // of least error (ErrorQuadrics::least_data).
+    bool least_data() const {
+        return options_.data_placement == DataPlacement::LeastError && quadrics_.components > 0;
+    }
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     size_t operations_ = 0;
     // The pool of candidates, in id order: every live edge (under its lower half-edge id) for

@@ -1,5 +1,6 @@
 // Edge collapse: placement (midpoint, volume-preserving) and the data of the new point
-// ("interpolated at its position along the edge, never extrapolated").
+// ("interpolated at its position along the edge, never extrapolated"; or of least error,
+// within the two values it replaces).
 //
 // The trick used throughout: the field "velocity" of with_test_fields equals the vertex position.
 // Interpolating it at parameter t along an edge (a, b) gives a + t (b - a), the point at t on
@@ -10,10 +11,12 @@
 namespace ddsimp::test {
 namespace {
 
+// The paper's data: interpolated along the edge (what the tests of this file check).
 Options edge(Placement p) {
     Options o;
     o.strategy = Strategy::EdgeCollapse;
     o.placement = p;
+    o.data_placement = DataPlacement::Interpolated;
     return o;
 }
 
@@ -187,6 +190,38 @@ TEST(EdgeCollapse, ThinBladeKeepsItsRim) {
     for (Placement p : {Placement::LeastError, Placement::Midpoint, Placement::VolumePreserving})
         EXPECT_LT(farthest_after_reduction(in, edge(p), 1, 0.1), 0.1 * kThinBladeThickness)
             << "placement " << int(p);
+}
+
+// DataPlacement::LeastError on a flat grid with a curved field f = x^2 + y^2: the new points'
+// values differ from the interpolated ones but stay within the input's range (they never overshoot
+// the values they replace). At alpha = 1 the data takes no part: both give the same surface.
+// (That they lower the data error is checked on a real surface: tests/tools/test_isosurface.cpp.)
+TEST(EdgeCollapse, LeastErrorDataStaysWithinTheInputsRange) {
+    Surface in = grid(40, 40);
+    add_field(in, "f", 1,
+              [](const Vec3& p) { return std::vector<double>{p[0] * p[0] + p[1] * p[1]}; });
+    const auto [lo, hi] =
+        std::minmax_element(in.fields[0].values.begin(), in.fields[0].values.end());
+    auto reduce = [&](DataPlacement d, double alpha) {
+        Options o;
+        o.alpha = alpha;
+        o.keep_fraction = 0.1;
+        o.data_placement = d;
+        const Result r = simplify(in, o);
+        EXPECT_TRUE(r.target_reached);
+        return r.surface;
+    };
+    const Surface least = reduce(DataPlacement::LeastError, 0.0);
+    for (float value : least.fields[0].values) {
+        EXPECT_GE(value, *lo);
+        EXPECT_LE(value, *hi);
+    }
+    EXPECT_NE(least.fields[0].values, reduce(DataPlacement::Interpolated, 0.0).fields[0].values);
+    const Surface plain = reduce(DataPlacement::LeastError, 1.0);
+    const Surface paper = reduce(DataPlacement::Interpolated, 1.0);
+    EXPECT_EQ(plain.positions, paper.positions);
+    EXPECT_EQ(plain.triangles, paper.triangles);
+    EXPECT_EQ(plain.fields[0].values, paper.fields[0].values);
 }
 
 } // namespace

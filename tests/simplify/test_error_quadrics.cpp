@@ -1,8 +1,9 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
 // placement (free, or at a held height) and the error change it reports, and the error at one
 // point, against the quadrics evaluated along a segment; the least error over points, against
-// each point alone. The quadrics are built by hand from planes and a linear field, so that
-// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+// each point alone; the data of least error at a point, against the closed form. The quadrics are
+// built by hand from planes and a linear field, so that E(x, s) = sum (n.x + e)^2 + w (s - g.x -
+// d)^2 is known in closed form.
 #include "error_quadric.h"
 #include "working_mesh.h"
 
@@ -37,6 +38,7 @@ ErrorQuadrics two_quadrics() {
     q.offset = {0};
     q.low = {0};
     q.inv_range = {1};
+    q.continuous = {1};
     add_plane(q.of(0), unit({0.1, 0.2, 1.0}), -0.05, 0.7);
     add_plane(q.of(0), unit({0.9, -0.1, 0.4}), 0.02, 0.3);
     add_field(q.of(0), {0.5, -0.3, 0.2}, 0.1, 0.4);
@@ -147,6 +149,50 @@ TEST(ErrorQuadrics, LeastAtPointsIsTheLeastOfEachPointAlone) {
                 EXPECT_EQ(q.least_at(v, mesh, ring + first, count), least)
                     << "quadric " << v << ", points " << first << ".." << first + count;
             }
+}
+
+} // namespace
+} // namespace ddsimp::detail
+
+namespace ddsimp::detail {
+namespace {
+
+TEST(ErrorQuadrics, LeastDataIsTheLeastSquaresValueClampedToTheEnds) {
+    const ErrorQuadrics q = two_quadrics();
+    const Vec3 x{0.12, -0.01, 0.01};
+    // Closed form: sum w (g.x + d) / sum w over the two fields of two_quadrics.
+    const double least =
+        (0.4 * (dot({0.5, -0.3, 0.2}, x) + 0.1) + 0.5 * (dot({0.4, -0.2, 0.1}, x) + 0.12)) / 0.9;
+    auto error_with = [&](float s) { // both quadrics at x with data s
+        const float f[1] = {s};
+        return q.at(0, 1, x, f, f, 0.0);
+    };
+    const double t = 0.3;
+    struct Case {
+        float a, b, expected;
+    };
+    for (const Case c : {Case{0.0f, 0.5f, float(least)}, // inside: the least-squares value
+                         Case{0.5f, 0.0f, float(least)}, // the ends' order does not matter
+                         Case{0.2f, 0.3f, least < 0.2 ? 0.2f : 0.3f}, // outside: the nearer end
+                         Case{0.4f, 0.9f, 0.4f}}) {
+        const float fa[1] = {c.a}, fb[1] = {c.b};
+        float out[1] = {-1};
+        const double change = q.least_data(0, 1, x, fa, fb, t, out);
+        EXPECT_NEAR(out[0], c.expected, 1e-6) << c.a << ".." << c.b;
+        EXPECT_GE(out[0], std::min(c.a, c.b));
+        EXPECT_LE(out[0], std::max(c.a, c.b));
+        // The change is the error with the new value less the error with the blend at t.
+        const float blend = float((1 - t) * c.a + t * c.b);
+        EXPECT_NEAR(change, error_with(out[0]) - error_with(blend), 1e-6) << c.a << ".." << c.b;
+        EXPECT_LE(change, 0.0);
+    }
+    // A component that is not continuous (a label, a direction) is left alone.
+    ErrorQuadrics label = q;
+    label.continuous = {0};
+    const float fa[1] = {0.0f}, fb[1] = {0.5f};
+    float out[1] = {-1};
+    EXPECT_EQ(label.least_data(0, 1, x, fa, fb, t, out), 0.0);
+    EXPECT_EQ(out[0], -1.0f);
 }
 
 } // namespace

@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 15;
+inline constexpr int algorithm_version = 16;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -139,7 +139,20 @@ enum class Placement {
     Midpoint,         // the middle of the edge
     VolumePreserving, // the point nearest the midpoint that keeps the enclosed volume (Gueziec)
     // In every case, an end pinned by a boundary or feature line (see feature_angle) keeps its
-    // position: the new point goes there. The new point's data is interpolated along the edge.
+    // position: the new point goes there. Its data: see DataPlacement.
+};
+
+// The data an edge collapse gives its new point.
+enum class DataPlacement {
+    // Each component of a Continuous field that drives the data term (gradient_fields) takes its
+    // value of least data error at the new point (the least-squares value of the two ends' error
+    // quadrics, see Terms), clamped to the range of the two values it replaces, so that it never
+    // overshoots them; other fields are interpolated. Needs the error quadrics (Terms::
+    // ErrorQuadrics or Placement::LeastError) and alpha < 1; otherwise as Interpolated.
+    LeastError,
+    // Interpolated at the new point's position along the edge (Frank & Lang); a Label field
+    // takes the nearer end's value, a Direction field is scaled back to unit length.
+    Interpolated,
 };
 
 // What the two terms of the weight measure.
@@ -176,6 +189,7 @@ struct Options {
     Terms terms = Terms::ErrorQuadrics;
     Strategy strategy = Strategy::EdgeCollapse;
     Placement placement = Placement::LeastError;
+    DataPlacement data_placement = DataPlacement::LeastError;
 
     // Target: the first that is set wins: target_triangles, then keep_fraction.
     size_t target_triangles = 0; // stop at or below this many triangles (0: not set)
