@@ -349,13 +349,14 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     }
 
     // The new vertex. Its data of least error is written into its record first: a's data, which
-    // it needs, is n's and gets the blend.
+    // it needs, is n's and gets the blend. A locked end keeps its data too (it is placed there).
     float* made = &made_[index * (3 + m.stride)];
     for (int c = 0; c < 3; ++c) m.position_of(n)[c] = float(plan.point[c]);
-    if (least_data())
+    const bool fit = least_data() && (m.locked.empty() || !(m.locked[a] | m.locked[b]));
+    if (fit)
         quadrics_.least_data(a, b, plan.point, m.data_of(a), m.data_of(b), plan.along, made + 3);
     m.blend_data(a, b, plan.along, n);
-    if (least_data())
+    if (fit)
         for (size_t j = 0; j < quadrics_.components; ++j)
             if (quadrics_.continuous[j])
                 m.data_of(n)[quadrics_.offset[j]] = made[3 + quadrics_.offset[j]];

@@ -147,7 +147,8 @@ enum class DataPlacement {
     // Each component of a Continuous field that drives the data term (gradient_fields) takes its
     // value of least data error at the new point (the least-squares value of the two ends' error
     // quadrics, see Terms), clamped to the range of the two values it replaces, so that it never
-    // overshoots them; other fields are interpolated. Needs the error quadrics (Terms::
+    // overshoots them; other fields are interpolated, and a collapse onto a locked vertex
+    // (Options::locked) keeps its data. Needs the error quadrics (Terms::
     // ErrorQuadrics or Placement::LeastError) and alpha < 1; otherwise as Interpolated.
     LeastError,
     // Interpolated at the new point's position along the edge (Frank & Lang); a Label field
