@@ -79,23 +79,26 @@ inline void sort_candidates(std::vector<Candidate>& items, std::vector<Candidate
     }
 }
 
-// The `count` lightest of `items` (in id order), sorted, into `out`, perhaps followed by more:
-// all items whose top key digit is at most that of the count-th lightest, sorted. The same first
-// `count` as sorting all of them, for less work. `items` is left in an unspecified state.
-inline void lightest_sorted(std::vector<Candidate>& items, size_t count,
-                            std::vector<Candidate>& out) {
-    out.clear();
-    if (count < items.size() && items.size() >= kDigitValues) {
-        std::vector<uint32_t> histogram(kDigitValues, 0);
-        for (const Candidate& c : items) ++histogram[digit(c, kKeyDigits - 1)];
-        uint32_t last = 0;
-        for (size_t sum = 0; sum + histogram[last] < count;) sum += histogram[last++];
-        for (const Candidate& c : items)
-            if (digit(c, kKeyDigits - 1) <= last) out.push_back(c);
-    } else {
-        out.swap(items);
+// The `count` lightest of a pass's candidates without holding them all: add() counts each one's
+// top key digit, bound(count) finds the highest top digit the lightest `count` need, and keeps()
+// then says which to collect (in id order) and sort: the lightest `count` first, perhaps followed
+// by more. The same first `count` as sorting all of them.
+class LightestShare {
+public:
+    void add(const Candidate& c) { ++histogram_[digit(c, kKeyDigits - 1)], ++total_; }
+    size_t total() const { return total_; }
+    void bound(size_t count) {
+        last_ = uint32_t(kDigitValues - 1);
+        if (count >= total_ || total_ < kDigitValues) return; // all of them
+        last_ = 0;
+        for (size_t sum = 0; sum + histogram_[last_] < count;) sum += histogram_[last_++];
     }
-    sort_candidates(out, items);
-}
+    bool keeps(const Candidate& c) const { return digit(c, kKeyDigits - 1) <= last_; }
+
+private:
+    std::vector<uint32_t> histogram_ = std::vector<uint32_t>(kDigitValues, 0);
+    size_t total_ = 0;
+    uint32_t last_ = 0;
+};
 
 } // namespace ddsimp::detail

@@ -1,5 +1,6 @@
 // Replaying a prefix of the recorded operations: every level of one run, without re-running.
 #include "simplifier.h"
+#include "validate.h"
 
 #include <algorithm>
 
@@ -11,15 +12,37 @@ ProgressiveRecord ProgressiveRecord::build(const Surface& input, const Options& 
 
 ProgressiveRecord ProgressiveRecord::run(const Surface& input, const Options& options,
                                          bool measure) {
-    Surface surface = input;
-    const RepairReport repairs = validate(surface);
-    ProgressiveRecord record = Simplifier(surface, options, repairs).run();
-    // The run hands over each field's values; its kind is the input's.
-    for (size_t f = 0; f < record.vertices_.fields.size(); ++f)
-        record.vertices_.fields[f].kind = surface.fields[f].kind;
+    RepairReport repairs;
+    Surface repaired;
+    const Surface& surface = detail::validated(input, repaired, repairs);
+    std::vector<float> made; // per collapse: the new point, then its data
+    ProgressiveRecord record = Simplifier(surface, options, repairs).run(made);
+    record.take_vertices(surface, made);
     // After the run, when the simplifier's memory is gone: the measurement's peak stays below it.
     if (measure) record.measure_errors(options.gradient_fields);
     return record;
+}
+
+void ProgressiveRecord::take_vertices(const Surface& input, std::vector<float>& made) {
+    size_t record = 3;
+    for (const Field& f : input.fields) record += size_t(f.components);
+    const size_t ni = input.vertex_count(), nv = ni + made.size() / record;
+    vertices_.positions.resize(3 * nv);
+    std::copy(input.positions.begin(), input.positions.end(), vertices_.positions.begin());
+    for (size_t v = ni; v < nv; ++v)
+        std::copy_n(&made[(v - ni) * record], 3, &vertices_.positions[3 * v]);
+    size_t offset = 3;
+    for (const Field& in : input.fields) {
+        Field f{in.name, in.components, {}, in.kind};
+        const size_t nc = size_t(f.components);
+        f.values.resize(nv * nc);
+        std::copy(in.values.begin(), in.values.end(), f.values.begin());
+        for (size_t v = ni; v < nv; ++v)
+            std::copy_n(&made[(v - ni) * record + offset], nc, &f.values[v * nc]);
+        offset += nc;
+        vertices_.fields.push_back(std::move(f));
+    }
+    std::vector<float>().swap(made);
 }
 
 size_t ProgressiveRecord::operations_for(size_t triangles) const {

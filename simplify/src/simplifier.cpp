@@ -34,6 +34,13 @@ std::vector<uint32_t> locality_order(const Surface& s) {
     return order;
 }
 
+// resize for an array that a run appends to, past what reserve_record expected: in steps of a
+// quarter, not doubling, as the array is near its final size.
+template <class T> void grow(std::vector<T>& v, size_t n) {
+    if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / 4));
+    v.resize(n);
+}
+
 } // namespace
 
 Simplifier::Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs)
@@ -105,6 +112,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
     if (collapse) {
         length_.resize(surface.triangles.size());
+        size_t edges = 0;
+        for (uint32_t h = 0; h < surface.triangles.size(); ++h)
+            edges += mesh_.twin[h] == kNone || h < mesh_.twin[h];
+        pool_.reserve(edges);
         for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
             const uint32_t t = mesh_.twin[h];
             if (t == kNone || h < t) {
@@ -115,6 +126,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
             }
         }
     } else {
+        pool_.reserve(vertices_in_use_);
         shortest_.assign(capacity, 0);
         for (uint32_t v = 0; v < n; ++v)
             if (mesh_.kind[v] != VertexKind::Dead)
@@ -216,7 +228,6 @@ bool Simplifier::rank_candidates(size_t& share) {
                            [](const Member& a, const Member& b) { return a.id < b.id; });
         born_.clear();
     }
-    scratch_.clear();
     // Per member, side by side: whether it is live, and whether it is a candidate, with its key
     // computed again if what it reads changed. Each writes only its own member and id.
     status_.resize(pool_.size());
@@ -246,19 +257,29 @@ bool Simplifier::rank_candidates(size_t& share) {
         }
     });
     if (swept < pool_.size()) return false;
-    // The pool without the dead, and the candidates with a finite key, in id order.
+    // The pool without the dead; its candidates with a finite key counted by key, then the
+    // lightest share of them collected in id order and sorted.
+    detail::LightestShare lightest;
     size_t kept = 0;
     for (size_t i = 0; i < pool_.size(); ++i) {
         if (status_[i] == kDeadMember) continue;
-        if (status_[i] == kCandidate && !std::isinf(pool_[i].key.weight))
-            scratch_.push_back(detail::Candidate::make(pool_[i].key, uint32_t(kept)));
+        if (status_[i] == kCandidate && std::isinf(pool_[i].key.weight)) status_[i] = kLiveMember;
+        if (status_[i] == kCandidate) lightest.add(detail::Candidate::make(pool_[i].key, 0));
+        status_[kept] = status_[i];
         pool_[kept++] = pool_[i];
     }
     pool_.resize(kept);
-    share = scratch_.empty()
+    share = lightest.total() == 0
                 ? 0
-                : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(scratch_.size()))));
-    detail::lightest_sorted(scratch_, share, order_);
+                : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(lightest.total()))));
+    lightest.bound(share);
+    order_.clear();
+    for (size_t i = 0; i < kept; ++i) {
+        if (status_[i] != kCandidate) continue;
+        const detail::Candidate c = detail::Candidate::make(pool_[i].key, uint32_t(i));
+        if (lightest.keeps(c)) order_.push_back(c);
+    }
+    detail::sort_candidates(order_, scratch_);
     return true;
 }
 
@@ -373,10 +394,10 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         }
     }
     if (collapse) {
-        record_.collapse_.resize(2 * (operations_ + count));
-        made_.resize((operations_ + count) * (3 + mesh_.stride));
+        grow(record_.collapse_, 2 * (operations_ + count));
+        grow(made_, (operations_ + count) * (3 + mesh_.stride));
     } else {
-        record_.writes_.resize(writes);
+        grow(record_.writes_, writes);
     }
     news_.resize(count);
     for (size_t j = 0; j < count && collapse; ++j)
@@ -414,12 +435,28 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     return false;
 }
 
-ProgressiveRecord Simplifier::run() {
+void Simplifier::reserve_record(size_t target) {
+    // An operation off the boundary removes two triangles: a collapse of an interior edge, or a
+    // removal of an interior vertex, whose star has six triangles on average (Euler).
+    const size_t in = record_.triangles_in_;
+    const size_t operations = (in - std::min(target, in)) / 2 + 1;
+    record_.triangles_after_.reserve(operations);
+    if (options_.strategy == Strategy::EdgeCollapse) {
+        record_.collapse_.reserve(2 * operations);
+        made_.reserve(operations * (3 + mesh_.stride));
+    } else {
+        record_.write_begin_.reserve(operations + 1);
+        record_.writes_.reserve(4 * 6 * operations);
+    }
+}
+
+ProgressiveRecord Simplifier::run(std::vector<float>& made_points) {
     const size_t target = target_triangles(options_, record_.triangles_in_);
     target_ = target;
     // Pass after pass until the target. Nothing in a pass depends on the target but where it
     // stops applying, so a run to any target performs a prefix of the same operations.
     StopReason stop = StopReason::TargetReached;
+    reserve_record(target);
     if (mesh_.live_triangles > target && checkpoint())
         while (!run_pass(target, stop)) continue;
     else if (cancelled_)
@@ -427,25 +464,7 @@ ProgressiveRecord Simplifier::run() {
     record_.stop_ = stop;
     if (options_.progress && !cancelled_) options_.progress(1.0);
 
-    // Hand the vertices (the input's, then those the collapses made) to the record.
-    const size_t made = 3 + mesh_.stride;
-    const size_t ni = input_.vertex_count(), nv = ni + made_.size() / made;
-    Surface& vertices = record_.vertices_;
-    vertices.positions.resize(3 * nv);
-    std::copy(input_.positions.begin(), input_.positions.end(), vertices.positions.begin());
-    for (size_t v = ni; v < nv; ++v)
-        std::copy_n(&made_[(v - ni) * made], 3, &vertices.positions[3 * v]);
-    size_t offset = 3;
-    for (const Field& in : input_.fields) {
-        Field f{in.name, in.components, {}};
-        const size_t nc = size_t(f.components);
-        f.values.resize(nv * nc);
-        std::copy(in.values.begin(), in.values.end(), f.values.begin());
-        for (size_t v = ni; v < nv; ++v)
-            std::copy_n(&made_[(v - ni) * made + offset], nc, &f.values[v * nc]);
-        offset += nc;
-        vertices.fields.push_back(std::move(f));
-    }
+    made_points.swap(made_);
     return std::move(record_);
 }
 

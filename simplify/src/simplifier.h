@@ -19,7 +19,10 @@ class Simplifier {
 public:
     // `surface` must have passed `validate` and must outlive run().
     Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs);
-    ProgressiveRecord run();
+    // The record of the run; the points the collapses made (with their data, 3 + the fields'
+    // components per point) into `made_points`, for the record's vertices (progressive_record.cpp
+    // appends them to the input's once this object and its working memory are gone).
+    ProgressiveRecord run(std::vector<float>& made_points);
 
 private:
     static constexpr size_t kMaxValence = 64;
@@ -97,6 +100,8 @@ private:
     // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
     // ends and line flags (all but the apexes); vertex removal passes count.
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
+    // Reserves the record's per-operation arrays for the operations a run to `target` takes.
+    void reserve_record(size_t target);
     // The next pass: the number of candidates it selects from into `share`, and at least that
     // many of the lightest candidates, sorted lightest first, into order_. False: cancelled.
     bool rank_candidates(size_t& share);
@@ -233,7 +238,7 @@ private:
     std::vector<uint8_t> status_;
     std::vector<uint32_t> born_;
     std::vector<uint8_t> listed_;
-    // The pass's lightest, sorted; all candidates before the ranking (then scratch space).
+    // The pass's lightest, sorted, and the sort's scratch space.
     std::vector<detail::Candidate> order_, scratch_;
     // busy_[v]: the stamp of what last reserved v and, for a selection round's stamp, the index
     // in selected_ of the candidate that holds it. Each pass has a stamp for its taken

@@ -1,5 +1,5 @@
 // Input checks: reject what has no obvious repair, drop degenerate and duplicate triangles.
-#include "ddsimp/ddsimp.h"
+#include "validate.h"
 
 #include <algorithm>
 #include <array>
@@ -62,8 +62,9 @@ void check_fields(const Surface& s) {
 }
 
 // Keeps the first of every set of triangles naming the same three vertices (in any order) and
-// drops triangles that name a vertex twice.
-void drop_bad_triangles(Surface& s, RepairReport& report) {
+// drops triangles that name a vertex twice: the triangles kept into `out` if any is dropped
+// (returns true), nothing written otherwise.
+bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairReport& report) {
     const size_t count = s.triangle_count();
     // Each triangle's vertices sorted; triangles bucketed by their lowest vertex (counting sort,
     // in triangle order), so that a duplicate is found among the few earlier ones of its bucket.
@@ -105,33 +106,35 @@ void drop_bad_triangles(Surface& s, RepairReport& report) {
         for (uint32_t i = begin + 1; i < end; ++i)
             if (keys[bucket[i]] == keys[bucket[i - 1]]) drop(bucket[i]);
     }
-    if (report.degenerate_triangles_dropped + report.duplicate_triangles_dropped == 0) return;
-    size_t out = 0;
+    if (report.degenerate_triangles_dropped + report.duplicate_triangles_dropped == 0) return false;
+    out.clear();
     for (size_t t = 0; t < count; ++t)
         if (keep[t])
-            for (int c = 0; c < 3; ++c) s.triangles[out++] = s.triangles[3 * t + c];
-    s.triangles.resize(out);
-    if (s.triangles.empty())
+            for (int c = 0; c < 3; ++c) out.push_back(s.triangles[3 * t + c]);
+    if (out.empty())
         reject("no triangles left after dropping " +
                std::to_string(report.degenerate_triangles_dropped) + " degenerate and " +
                std::to_string(report.duplicate_triangles_dropped) + " duplicate triangles");
+    return true;
 }
 
-// Flips triangles so that neighbours across every two-triangle edge run it in opposite
-// directions, walking each component breadth-first from its lowest-numbered triangle.
-void orient_consistently(Surface& s, RepairReport& report) {
+// The triangles to flip so that neighbours across every two-triangle edge run it in opposite
+// directions, walking each component breadth-first from its lowest-numbered triangle: per
+// triangle of `triangles` (over nv vertices), 2 if it is to be flipped.
+std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, size_t nv,
+                                       RepairReport& report) {
     constexpr uint32_t kNone = 0xffffffffu;
-    const size_t nv = s.vertex_count(), nt = s.triangle_count();
+    const size_t nt = triangles.size() / 3;
     // The triangle across each edge of each triangle (by half-edge 3t + c of the input's
     // orientation, the edge from corner c to corner c + 1), where exactly two triangles share
     // the edge: the half-edges grouped by their lower vertex (counting sort), each with its
     // higher one, and matched within their group. A flip changes no triangle's vertices, so
     // these stay right.
     auto ends = [&](uint32_t h) {
-        const uint32_t a = s.triangles[h], b = s.triangles[h % 3 == 2 ? h - 2 : h + 1];
+        const uint32_t a = triangles[h], b = triangles[h % 3 == 2 ? h - 2 : h + 1];
         return std::pair{std::min(a, b), std::max(a, b)};
     };
-    const uint32_t halfedges = uint32_t(s.triangles.size());
+    const uint32_t halfedges = uint32_t(triangles.size());
     std::vector<uint32_t> first(nv + 1, 0);
     for (uint32_t h = 0; h < halfedges; ++h) ++first[ends(h).first + 1];
     for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
@@ -156,14 +159,18 @@ void orient_consistently(Surface& s, RepairReport& report) {
         }
     }
 
-    // Does triangle t run the edge a -> b?
+    // Does triangle t, not flipped, run the edge a -> b?
     auto runs = [&](uint32_t t, uint32_t a, uint32_t b) {
-        const uint32_t* c = &s.triangles[3 * size_t(t)];
+        const uint32_t* c = &triangles[3 * size_t(t)];
         return (c[0] == a && c[1] == b) || (c[1] == a && c[2] == b) || (c[2] == a && c[0] == b);
     };
-    // seen[t]: 1 once reached, 2 if it was also flipped (corners 1 and 2 swapped, so its edge
-    // from corner c is the input's edge from corner 2 - c).
+    // seen[t]: 1 once reached, 2 if it was also flipped (corners 1 and 2 swapped, so its corner
+    // c is the input's corner (3 - c) % 3 and its edge from corner c the input's edge from
+    // corner 2 - c).
     std::vector<uint8_t> seen(nt, 0);
+    auto corner = [&](uint32_t t, uint32_t c) {
+        return triangles[3 * size_t(t) + (seen[t] == 2 ? (3 - c) % 3 : c)];
+    };
     std::vector<uint32_t> queue;
     for (uint32_t root = 0; root < nt; ++root) {
         if (seen[root]) continue;
@@ -172,13 +179,11 @@ void orient_consistently(Surface& s, RepairReport& report) {
         for (size_t q = 0; q < queue.size(); ++q) {
             const uint32_t t = queue[q];
             for (uint32_t c = 0; c < 3; ++c) {
-                const uint32_t a = s.triangles[3 * t + c], b = s.triangles[3 * t + (c + 1) % 3];
+                const uint32_t a = corner(t, c), b = corner(t, (c + 1) % 3);
                 const uint32_t other = across[3 * t + (seen[t] == 2 ? 2 - c : c)];
                 if (other == kNone || seen[other]) continue; // boundary, non-manifold or done
                 seen[other] = 1;
                 if (runs(other, a, b)) {
-                    std::swap(s.triangles[3 * size_t(other) + 1],
-                              s.triangles[3 * size_t(other) + 2]);
                     seen[other] = 2;
                     ++report.triangles_flipped;
                 }
@@ -186,21 +191,51 @@ void orient_consistently(Surface& s, RepairReport& report) {
             }
         }
     }
+    return seen;
 }
 
 } // namespace
 
-RepairReport validate(Surface& surface) {
-    RepairReport report;
+namespace detail {
+
+bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired,
+                      RepairReport& report) {
+    report = {};
     check_shape(surface);
     check_positions(surface);
     check_indices(surface);
     check_fields(surface);
-    drop_bad_triangles(surface, report);
-    orient_consistently(surface, report);
+    const bool dropped = drop_bad_triangles(surface, repaired, report);
+    const std::vector<uint32_t>& triangles = dropped ? repaired : surface.triangles;
+    const std::vector<uint8_t> flips = orientation_flips(triangles, surface.vertex_count(), report);
+    if (report.triangles_flipped > 0) {
+        if (!dropped) repaired = surface.triangles;
+        for (size_t t = 0; t < flips.size(); ++t)
+            if (flips[t] == 2) std::swap(repaired[3 * t + 1], repaired[3 * t + 2]);
+    }
     std::vector<uint8_t> used(surface.vertex_count(), 0);
-    for (uint32_t v : surface.triangles) used[v] = 1;
+    for (uint32_t v : dropped || report.triangles_flipped > 0 ? repaired : surface.triangles)
+        used[v] = 1;
     report.unused_vertices = size_t(std::count(used.begin(), used.end(), 0));
+    return dropped || report.triangles_flipped > 0;
+}
+
+const Surface& validated(const Surface& input, Surface& repaired, RepairReport& report) {
+    std::vector<uint32_t> triangles;
+    if (!repair_triangles(input, triangles, report)) return input;
+    repaired.positions = input.positions;
+    repaired.fields = input.fields;
+    repaired.triangles = std::move(triangles);
+    return repaired;
+}
+
+} // namespace detail
+
+RepairReport validate(Surface& surface) {
+    RepairReport report;
+    std::vector<uint32_t> triangles;
+    if (detail::repair_triangles(surface, triangles, report))
+        surface.triangles = std::move(triangles);
     return report;
 }
 

@@ -1,5 +1,7 @@
 #include "weights.h"
 
+#include "validate.h"
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -68,8 +70,9 @@ namespace ddsimp {
 namespace {
 // The mesh of a repaired copy (consistent orientation), with the input's vertex numbering.
 detail::WorkingMesh analysed(const Surface& input) {
-    Surface surface = input;
-    validate(surface);
+    RepairReport repairs;
+    Surface repaired;
+    const Surface& surface = detail::validated(input, repaired, repairs);
     detail::WorkingMesh mesh;
     detail::Limits limits; // features do not matter for the weights
     mesh.build(surface, surface.vertex_count(), limits);

@@ -1,0 +1,21 @@
+// The input checks of `validate` (ddsimp.h) for callers that must not copy a surface that needs
+// no repair: the repairs only ever change the triangles.
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+// Checks `surface` as `validate` does (throws InputError) and fills `report`. Returns true with
+// the repaired triangles in `repaired` if a repair changes them; false otherwise (`repaired`
+// then holds nothing useful).
+bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired,
+                      RepairReport& report);
+
+// `input` itself when it needs no repair, otherwise `repaired`, filled with its repaired copy.
+const Surface& validated(const Surface& input, Surface& repaired, RepairReport& report);
+
+} // namespace ddsimp::detail
