@@ -68,9 +68,9 @@ Key Simplifier::collapse_key(uint32_t h) const {
     if (quadric_terms_) {
         CollapsePlan plan;
         place(h, plan);
-        return {float(plan.error), length_[h]};
+        return {float(plan.error), edge_length(h)};
     }
-    return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], length_[h]};
+    return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], edge_length(h)};
 }
 
 void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
@@ -83,8 +83,8 @@ void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
     }
 }
 
-void Simplifier::update_length(uint32_t h) {
-    length_[h] = float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
+float Simplifier::edge_length(uint32_t h) const {
+    return float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
 }
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
@@ -363,16 +363,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
-    // Every edge at n: each half-edge that leaves n, then each that arrives, which has the
-    // length of its twin (one of the first) unless it is on the boundary.
-    for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3), update_length(leaving[i]);
-    for (size_t i = 0; i < count; ++i) {
-        const uint32_t arriving = prev(leaving[i]), t = m.twin[arriving];
-        if (t != kNone)
-            length_[arriving] = length_[t];
-        else
-            update_length(arriving);
-    }
+    for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
     const Vec3 ref = add(m.reference_normal(a), m.reference_normal(b));
     const double lr = norm(ref);
     for (int c = 0; c < 3; ++c)

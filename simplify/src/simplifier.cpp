@@ -88,7 +88,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         options.strategy == Strategy::EdgeCollapse && options.placement == Placement::LeastError;
     if (quadric_terms_ || least_error_)
         quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity);
-    weight_.assign(capacity, 0);
+    if (!(collapse && quadric_terms_)) weight_.assign(capacity, 0);
     // The paper's terms, then their means over the vertices that can take part.
     std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);
     if (!quadric_terms_)
@@ -111,20 +111,13 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
     if (collapse) {
-        length_.resize(surface.triangles.size());
         size_t edges = 0;
         for (uint32_t h = 0; h < surface.triangles.size(); ++h)
             edges += mesh_.twin[h] == kNone || h < mesh_.twin[h];
         pool_.reserve(edges);
-        for (uint32_t h = 0; h < surface.triangles.size(); ++h) {
-            const uint32_t t = mesh_.twin[h];
-            if (t == kNone || h < t) {
-                update_length(h);
+        for (uint32_t h = 0; h < surface.triangles.size(); ++h)
+            if (mesh_.twin[h] == kNone || h < mesh_.twin[h])
                 pool_.push_back({h, kNever, {}}), listed_[h] = 1;
-            } else {
-                length_[h] = length_[t]; // the same edge's length, the same bits
-            }
-        }
     } else {
         pool_.reserve(vertices_in_use_);
         shortest_.assign(capacity, 0);
@@ -158,14 +151,16 @@ void Simplifier::refresh_vertex(uint32_t v) {
     });
     const VertexKind k = mesh_.kind[v];
     const bool counted = k != VertexKind::Complex && k != VertexKind::Dead;
-    if (quadric_terms_)
-        weight_[v] = ring_error && (k == VertexKind::Free || k == VertexKind::Line)
-                         ? float(removal_error(v, ring, ring_size))
-                         : 0.0f;
-    else
+    if (quadric_terms_) {
+        if (removal)
+            weight_[v] = ring_error && (k == VertexKind::Free || k == VertexKind::Line)
+                             ? float(removal_error(v, ring, ring_size))
+                             : 0.0f;
+    } else {
         weight_[v] =
             float(options_.alpha * mesh_.curvature_from(v, angles) * curvature_scale_ +
                   (1 - options_.alpha) * (counted ? steepest.value() : 0.0) * gradient_scale_);
+    }
     if (removal) {
         shortest_[v] = float(shortest);
         raised_[v] = 0; // its key is an estimate again
@@ -220,12 +215,27 @@ bool Simplifier::rank_candidates(size_t& share) {
     // The pool without what died, merged with what was born, in id order; every candidate with
     // its key, in the same order. A key is computed again only if an end's star changed since
     // (nothing else it reads can change), so a pass costs a sweep, not a key per candidate.
+    auto live = [&](uint32_t id) {
+        if (!collapse) return mesh_.kind[id] != VertexKind::Dead;
+        const uint32_t t = mesh_.twin[id];
+        return mesh_.origin[id] != kNone && (t == kNone || id < t);
+    };
     if (!born_.empty()) {
+        // The dead out first, so that the born fit in the pool's first size (edges only die;
+        // the born are live edges under new ids), then merged in from the back.
+        size_t kept = 0;
+        for (const Member& m : pool_) {
+            if (live(m.id))
+                pool_[kept++] = m;
+            else
+                listed_[m.id] = 0;
+        }
         std::sort(born_.begin(), born_.end());
-        const size_t old = pool_.size();
-        for (uint32_t id : born_) pool_.push_back({id, kNever, {}});
-        std::inplace_merge(pool_.begin(), pool_.begin() + std::ptrdiff_t(old), pool_.end(),
-                           [](const Member& a, const Member& b) { return a.id < b.id; });
+        pool_.resize(kept + born_.size());
+        size_t i = kept, j = born_.size();
+        for (size_t k = pool_.size(); j > 0;)
+            pool_[--k] = i > 0 && pool_[i - 1].id > born_[j - 1] ? pool_[--i]
+                                                                 : Member{born_[--j], kNever, {}};
         born_.clear();
     }
     // Per member, side by side: whether it is live, and whether it is a candidate, with its key
@@ -236,10 +246,7 @@ bool Simplifier::rank_candidates(size_t& share) {
             Member& m = pool_[i];
             const uint32_t id = m.id;
             const uint32_t a = collapse ? mesh_.origin[id] : id;
-            const bool live = collapse
-                                  ? a != kNone && (mesh_.twin[id] == kNone || id < mesh_.twin[id])
-                                  : mesh_.kind[id] != VertexKind::Dead;
-            if (!live) {
+            if (!live(id)) {
                 listed_[id] = 0, status_[i] = kDeadMember;
                 continue;
             }
@@ -436,10 +443,12 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
 }
 
 void Simplifier::reserve_record(size_t target) {
-    // An operation off the boundary removes two triangles: a collapse of an interior edge, or a
-    // removal of an interior vertex, whose star has six triangles on average (Euler).
+    // Every operation removes a triangle at least (most remove two; a removal's star has six
+    // triangles on average, by Euler). Reserved pages that are never written cost no memory, so
+    // the bound is reserved rather than an estimate that a reallocation (old and new arrays at
+    // once) would have to make good.
     const size_t in = record_.triangles_in_;
-    const size_t operations = (in - std::min(target, in)) / 2 + 1;
+    const size_t operations = in - std::min(target, in);
     record_.triangles_after_.reserve(operations);
     if (options_.strategy == Strategy::EdgeCollapse) {
         record_.collapse_.reserve(2 * operations);

@@ -100,7 +100,7 @@ private:
     // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
     // ends and line flags (all but the apexes); vertex removal passes count.
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
-    // Reserves the record's per-operation arrays for the operations a run to `target` takes.
+    // Reserves the record's per-operation arrays for the most operations a run to `target` takes.
     void reserve_record(size_t target);
     // The next pass: the number of candidates it selects from into `share`, and at least that
     // many of the lightest candidates, sorted lightest first, into order_. False: cancelled.
@@ -158,7 +158,7 @@ private:
     // Fetches the records and quadrics of an edge's ends a and b, which its key reads (a prefetch
     // changes no result).
     void prefetch_key(uint32_t a, uint32_t b) const;
-    void update_length(uint32_t h); // after a corner of h's triangle moved
+    float edge_length(uint32_t h) const; // the key's tie-break
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
     void place(uint32_t h, CollapsePlan& plan) const;
     detail::Vec3 near_surface(const detail::SegmentSlope& slope, double t, uint32_t a, uint32_t b,
@@ -209,7 +209,7 @@ private:
     // vertex removal's key: its error where a re-triangulation would pass (removal_error), an
     // estimate that step_removal replaces by its planned re-triangulation's error when that is
     // heavier than it and than the pass's share (until v's star changes); unused by edge
-    // collapse with the error quadrics.
+    // collapse with the error quadrics (empty).
     std::vector<float> weight_;
     // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
     detail::ErrorQuadrics quadrics_;
@@ -295,9 +295,6 @@ private:
     // surface coarsens, and a plan made again later would be heavier again.
     std::vector<uint8_t> raised_;
     size_t vertices_in_use_ = 0; // by the input's triangles
-    // Edge collapse: the length of each half-edge's edge (the key's tie-break), kept up to date
-    // where a collapse moves a vertex rather than recomputed for every key.
-    std::vector<float> length_;
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;
     // Internal vertex ids are the input's in locality order, and a collapse reuses a slot:
