@@ -89,6 +89,7 @@ float Simplifier::edge_length(uint32_t h) const {
 
 bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
+    plan.refused_at = kNone;
     if (!kinds_allow_collapse(h, a, b)) return false;
     const uint32_t x = mesh_.origin[prev(h)], y = ht != kNone ? mesh_.origin[prev(ht)] : kNone;
 
@@ -98,9 +99,8 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
 
     // A refusal for a folding triangle that is still there and still folds stands: test that
     // triangle first (the checks are a conjunction, so the answer is the same, only sooner).
-    plan.refused_at = kNone;
     bool placed = false;
-    if (const uint32_t g = fail_at_[h]; g != kNone) {
+    if (const uint32_t g = fold_from_hint(h, fail_at_[h]); g != kNone) {
         const uint32_t v = mesh_.origin[g], t = g / 3;
         if ((v == a || v == b) && t != h / 3 && (ht == kNone || t != ht / 3)) {
             place(h, plan);
@@ -407,10 +407,30 @@ Simplifier::Check Simplifier::check_collapse(Member& candidate, CollapsePlan& pl
     }
     // Refused: it is no candidate until a change around it.
     fail_[h] = pass_;
-    fail_at_[h] = plan.refused_at;
-    if (mesh_.twin[h] != kNone)
-        fail_[mesh_.twin[h]] = fail_[h], fail_at_[mesh_.twin[h]] = plan.refused_at;
+    fail_at_[h] = fold_hint(h, plan.refused_at);
+    if (const uint32_t t = mesh_.twin[h]; t != kNone)
+        fail_[t] = fail_[h], fail_at_[t] = fold_hint(t, plan.refused_at);
     return Check::Refused;
+}
+
+uint8_t Simplifier::fold_hint(uint32_t h, uint32_t g) const {
+    if (g == kNone) return kNoFold;
+    const uint32_t v = mesh_.origin[g];
+    const uint8_t end = v == mesh_.origin[h] ? 0 : 0x40;
+    uint32_t step = 0;
+    for (uint32_t e = mesh_.out[v]; e != g; ++step) {
+        e = mesh_.twin[prev(e)];
+        if (e == kNone || step == 0x3f) return kNoFold;
+    }
+    return uint8_t(end | step);
+}
+
+uint32_t Simplifier::fold_from_hint(uint32_t h, uint8_t hint) const {
+    if (hint == kNoFold) return kNone;
+    const uint32_t v = hint & 0x40 ? mesh_.dest(h) : mesh_.origin[h];
+    uint32_t g = mesh_.out[v];
+    for (uint32_t step = hint & 0x3f; step > 0 && g != kNone; --step) g = mesh_.twin[prev(g)];
+    return g;
 }
 
 } // namespace ddsimp

@@ -17,13 +17,14 @@ ProgressiveRecord ProgressiveRecord::run(const Surface& input, const Options& op
     const Surface& surface = detail::validated(input, repaired, repairs);
     std::vector<float> made; // per collapse: the new point, then its data
     ProgressiveRecord record = Simplifier(surface, options, repairs).run(made);
-    record.take_vertices(surface, made);
+    record.take_input(surface, made);
     // After the run, when the simplifier's memory is gone: the measurement's peak stays below it.
     if (measure) record.measure_errors(options.gradient_fields);
     return record;
 }
 
-void ProgressiveRecord::take_vertices(const Surface& input, std::vector<float>& made) {
+void ProgressiveRecord::take_input(const Surface& input, std::vector<float>& made) {
+    base_triangles_ = input.triangles;
     size_t record = 3;
     for (const Field& f : input.fields) record += size_t(f.components);
     const size_t ni = input.vertex_count(), nv = ni + made.size() / record;

@@ -72,10 +72,9 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, {0, 0});
     rekey_.assign(capacity, 0);
-    if (collapse) fail_at_.assign(surface.triangles.size(), kNone);
+    if (collapse) fail_at_.assign(surface.triangles.size(), kNoFold);
 
     record_.strategy_ = options.strategy;
-    record_.base_triangles_ = surface.triangles;
     record_.triangles_in_ = surface.triangle_count();
     record_.input_vertices_ = surface.vertex_count();
     record_.repairs_ = repairs;
@@ -316,7 +315,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         if (!collapse || relaxed_facing_) return stop = StopReason::NothingRemovable, true;
         relaxed_facing_ = true;
         std::fill(fail_.begin(), fail_.end(), 0);
-        std::fill(fail_at_.begin(), fail_at_.end(), kNone);
+        std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
         return false;
     }
     if (order_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;

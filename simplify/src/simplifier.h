@@ -276,9 +276,15 @@ private:
     std::vector<uint32_t> fail_, epoch_;
     // Vertex removal: the length of each vertex's shortest edge (its key's tie-break).
     std::vector<float> shortest_;
-    // The half-edge (in the star of one end) whose triangle made the last refusal of an edge
-    // (kNone: another check refused it); plan_collapse tests it first.
-    std::vector<uint32_t> fail_at_;
+    // Where the triangle that made the last refusal of an edge is (kNoFold: another check
+    // refused it), for plan_collapse to test it first: bit 6 says in which end's star (set: the
+    // half-edge's destination), bits 0-5 how many steps counter-clockwise from that end's out[]
+    // its outgoing half-edge is. One byte, not a half-edge id: it is only a hint, so a star that
+    // changed since costs time, not results.
+    static constexpr uint8_t kNoFold = 0xff;
+    std::vector<uint8_t> fail_at_;
+    uint8_t fold_hint(uint32_t h, uint32_t g) const;         // g: the folding half-edge, or kNone
+    uint32_t fold_from_hint(uint32_t h, uint8_t hint) const; // kNone if it names none
     // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
     // sum of its corners' reference normals instead of each (see run()).
     bool relaxed_facing_ = false;

@@ -322,9 +322,10 @@ private:
     friend Result simplify(const Surface& input, const Options& options);
     // build without the level errors (simplify needs only the last level).
     static ProgressiveRecord run(const Surface& input, const Options& options, bool measure);
-    // The vertices: the input's, then the points the run made (`made`: per collapse, the point
+    // After the run, once the simplifier's memory is gone: the input's triangles, and the
+    // vertices, the input's and then the points the run made (`made`: per collapse, the point
     // and its data in field order); frees `made`.
-    void take_vertices(const Surface& input, std::vector<float>& made);
+    void take_input(const Surface& input, std::vector<float>& made);
     // level_error.cpp: fills level_error_ from the record (after the run).
     void measure_errors(const std::vector<std::string>& gradient_fields);
     Strategy strategy_ = Strategy::EdgeCollapse;
