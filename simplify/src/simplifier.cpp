@@ -329,23 +329,32 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     // or waiting one blocked: its neighbourhood is free again.
     taken_.clear();
     pending_.clear();
+    // A candidate is selected once a pass at most: room for the share's plans (pages never
+    // written cost nothing), so that a round's plans do not move the earlier rounds'.
+    plans_.clear(), removals_.clear();
+    if (collapse)
+        plans_.reserve(share);
+    else
+        removals_.reserve(share);
     for (uint32_t i = 0; i < share && order_[i].weight() <= options_.max_weight; ++i)
         pending_.push_back(i);
     const uint32_t taken_stamp = ++stamp_;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
         const uint32_t round_stamp = ++stamp_;
         if (!select(taken_stamp, round_stamp)) return stop = StopReason::Cancelled, true;
-        const size_t w = selected_.size();
+        // Each selected one's plan after the rounds' before it: the taken ones stay where their
+        // check put them until they are applied.
+        const size_t w = selected_.size(), first = collapse ? plans_.size() : removals_.size();
         checked_.resize(w);
         if (collapse)
-            plans_.resize(w);
+            plans_.resize(first + w);
         else
-            removals_.resize(w);
+            removals_.resize(first + w);
         if (in_blocks(w, [&](size_t begin, size_t end) {
                 for (size_t i = begin; i < end; ++i) {
                     Member& m = pool_[order_[selected_[i]].id];
-                    checked_[i] =
-                        collapse ? check_collapse(m, plans_[i]) : check_removal(m.id, removals_[i]);
+                    checked_[i] = collapse ? check_collapse(m, plans_[first + i])
+                                           : check_removal(m.id, removals_[first + i]);
                 }
             }) < w)
             return stop = StopReason::Cancelled, true;
@@ -361,14 +370,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
                 freed = true;
                 continue;
             }
-            const uint32_t rank = selected_[i];
-            if (collapse) {
-                taken_.push_back({rank, uint32_t(taken_plans_.size())});
-                taken_plans_.push_back(plans_[i]);
-            } else {
-                taken_.push_back({rank, uint32_t(taken_removals_.size())});
-                taken_removals_.push_back(removals_[i]);
-            }
+            taken_.push_back({selected_[i], uint32_t(first + i)});
         }
         if (!freed) break; // nothing blocked now is free in another round
         pend_blocked();
@@ -384,9 +386,9 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         const uint32_t t = taken_[j].second;
         size_t removed;
         if (collapse) {
-            removed = mesh_.twin[taken_plans_[t].halfedge] != kNone ? 2 : 1;
+            removed = mesh_.twin[plans_[t].halfedge] != kNone ? 2 : 1;
         } else {
-            const Removal& r = taken_removals_[t];
+            const Removal& r = removals_[t];
             removed = r.slots() - r.new_count;
             write_at_.push_back(uint32_t(writes));
             writes += 4 * r.slots();
@@ -407,14 +409,14 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     }
     news_.resize(count);
     for (size_t j = 0; j < count && collapse; ++j)
-        news_[j] = mesh_.origin[taken_plans_[taken_[j].second].halfedge];
+        news_[j] = mesh_.origin[plans_[taken_[j].second].halfedge];
     const size_t applied = in_blocks(count, [&](size_t begin, size_t end) {
         for (size_t j = begin; j < end; ++j) {
             const uint32_t t = taken_[j].second;
             if (collapse) {
-                apply_collapse(taken_plans_[t], operations_ + j);
+                apply_collapse(plans_[t], operations_ + j);
             } else {
-                apply_removal(taken_removals_[t], operations_ + j, write_at_[j]);
+                apply_removal(removals_[t], operations_ + j, write_at_[j]);
             }
         }
     });
@@ -434,7 +436,6 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     operations_ += applied;
     mesh_.live_triangles = live;
     for (size_t j = 0; j < applied && collapse; ++j) list_edges_of(news_[j]);
-    taken_plans_.clear(), taken_removals_.clear();
     if (applied < count) return stop = StopReason::Cancelled, true;
     if (live <= target) return stop = StopReason::TargetReached, true;
     if (!checkpoint()) return stop = StopReason::Cancelled, true;

@@ -251,17 +251,15 @@ private:
     uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
     // ascending), those it blocked with the index in selected_ of one that blocked each (see
-    // select), what each selected one's check found and what its operation needs when applied.
+    // select), what each selected one's check found, and the plans of every round's selected
+    // ones in selection order (what a taken one's operation needs when applied).
     std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
     std::vector<CollapsePlan> plans_;
     std::vector<Removal> removals_;
-    // The operations a pass takes: (rank in order_, index into the taken_* lists), sorted by
-    // rank; what each needs when applied, then the new vertices and where each removal's writes
-    // go in the record.
+    // The operations a pass takes: (rank in order_, index into plans_ or removals_), sorted by
+    // rank; then the new vertices and where each removal's writes go in the record.
     std::vector<std::pair<uint32_t, uint32_t>> taken_;
-    std::vector<CollapsePlan> taken_plans_;
-    std::vector<Removal> taken_removals_;
     std::vector<uint32_t> news_, write_at_;
     size_t target_ = 0;      // of the run (for the progress fraction only)
     bool cancelled_ = false; // Options::progress asked to stop
