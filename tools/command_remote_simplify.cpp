@@ -28,6 +28,7 @@ struct RemoteSimplifyArgs {
     std::vector<double> keep;
     std::string strategy = "edge";
     std::string placement = "least-error";
+    std::string data = "least-error";
     std::string terms = "quadrics";
     std::vector<std::string> fields;
     double feature_angle = Options{}.feature_angle;
@@ -111,6 +112,8 @@ int run_remote_simplify(const RemoteSimplifyArgs& args) {
         request.placement = args.placement == "volume"     ? Placement::VolumePreserving
                             : args.placement == "midpoint" ? Placement::Midpoint
                                                            : Placement::LeastError;
+        request.data_placement =
+            args.data == "interpolated" ? DataPlacement::Interpolated : DataPlacement::LeastError;
         request.terms = args.terms == "paper" ? Terms::AngleDeficitGradient : Terms::ErrorQuadrics;
         request.gradient_fields = args.fields;
         request.feature_angle = args.feature_angle;
@@ -180,6 +183,11 @@ Command add_remote_simplify(CLI::App& remote) {
     sub->add_option("--placement", args->placement,
                     "Edge collapse point: least-error (on the edge), midpoint or volume")
         ->check(CLI::IsMember({"least-error", "midpoint", "volume"}))
+        ->capture_default_str();
+    sub->add_option("--data", args->data,
+                    "Edge collapse data at the new point: least-error (of the data error, "
+                    "clamped to the two values it replaces) or interpolated (along the edge)")
+        ->check(CLI::IsMember({"least-error", "interpolated"}))
         ->capture_default_str();
     sub->add_option("--terms", args->terms,
                     "What the weight measures: quadrics (error against the input) or paper "

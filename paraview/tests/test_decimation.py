@@ -35,7 +35,8 @@ vectors = simple.ExtractSurface(Input=simple.LegacyVTKReader(
 source = pvtest.fetch(vectors)
 assert source.GetNumberOfPolys() == 756
 decimate = DataDependentDecimation(Input=vectors)
-for name in ["Alpha", "Keep", "Strategy", "Placement", "DrivingFields", "FeatureAngle"]:
+for name in ["Alpha", "Keep", "Strategy", "Placement", "DataPlacement", "DrivingFields",
+             "FeatureAngle"]:
     assert name in decimate.ListProperties(), name
 assert list(decimate.DrivingFields) == []  # none chosen: every field drives the data term
 
@@ -82,6 +83,13 @@ midpoint = points(pvtest.fetch(decimate)).copy()
 decimate.Placement = "least-error"
 least_error = points(pvtest.fetch(decimate)).copy()
 assert midpoint.shape != least_error.shape or not np.array_equal(midpoint, least_error)
+assert decimate.DataPlacement == "least-error"  # the library's default
+least_error_data = point_arrays(pvtest.fetch(decimate))["Temp"].copy()
+decimate.DataPlacement = "interpolated"
+interpolated = point_arrays(pvtest.fetch(decimate))["Temp"].copy()
+assert (least_error_data.shape != interpolated.shape
+        or not np.array_equal(least_error_data, interpolated))
+decimate.DataPlacement = "least-error"
 
 # A closed surface with its scalar field, read by ParaView's XML reader.
 earth = simple.XMLPolyDataReader(FileName=[os.path.join(data, "surfaces", "earth.vtp")])

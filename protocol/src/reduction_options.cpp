@@ -38,6 +38,16 @@ Placement from_wire(v1::Placement p) {
                                   : Options{}.placement;
 }
 
+v1::DataPlacement to_wire(DataPlacement d) {
+    return d == DataPlacement::Interpolated ? v1::DATA_INTERPOLATED : v1::DATA_LEAST_ERROR;
+}
+
+DataPlacement from_wire(v1::DataPlacement d) {
+    return d == v1::DATA_INTERPOLATED  ? DataPlacement::Interpolated
+           : d == v1::DATA_LEAST_ERROR ? DataPlacement::LeastError
+                                       : Options{}.data_placement;
+}
+
 v1::Terms to_wire(Terms t) {
     return t == Terms::AngleDeficitGradient ? v1::ANGLE_DEFICIT_GRADIENT : v1::ERROR_QUADRICS;
 }
@@ -53,6 +63,7 @@ Options options_from(const v1::Request& r) {
     o.alpha = r.has_alpha_exact() ? r.alpha_exact() : from_wire(r.alpha());
     o.strategy = from_wire(r.strategy());
     o.placement = from_wire(r.placement());
+    o.data_placement = from_wire(r.data_placement());
     o.terms = from_wire(r.terms());
     o.gradient_fields.assign(r.gradient_fields().begin(), r.gradient_fields().end());
     // The wire's 0 (a proto3 default) means no feature edges, as the library's 180 does.
@@ -67,6 +78,7 @@ void set_options(v1::Request& r, const Options& o) {
     r.set_alpha_exact(o.alpha);
     r.set_strategy(to_wire(o.strategy));
     r.set_placement(to_wire(o.placement));
+    r.set_data_placement(to_wire(o.data_placement));
     r.set_terms(to_wire(o.terms));
     r.clear_gradient_fields();
     for (const std::string& f : o.gradient_fields) r.add_gradient_fields(f);
@@ -93,6 +105,7 @@ void set_defaults(v1::ReductionDefaults& d) {
     d.set_alpha(o.alpha);
     d.set_strategy(to_wire(o.strategy));
     d.set_placement(to_wire(o.placement));
+    d.set_data_placement(to_wire(o.data_placement));
     d.set_terms(to_wire(o.terms));
     d.set_feature_angle(o.feature_angle);
 }
@@ -105,9 +118,9 @@ size_t target_for_keep(float keep, size_t triangles_in) {
 
 std::string result_key(const std::string& surface, const Options& o) {
     char numbers[160];
-    std::snprintf(numbers, sizeof numbers, "%.17g|%d|%d|%d|%.17g|%.17g|%.17g|%.17g", o.alpha,
-                  int(o.strategy), int(o.placement), int(o.terms), o.feature_angle,
-                  o.line_tolerance, o.max_normal_turn, o.max_weight);
+    std::snprintf(numbers, sizeof numbers, "%.17g|%d|%d|%d|%d|%.17g|%.17g|%.17g|%.17g", o.alpha,
+                  int(o.strategy), int(o.placement), int(o.data_placement), int(o.terms),
+                  o.feature_angle, o.line_tolerance, o.max_normal_turn, o.max_weight);
     std::string text =
         "ddsimp-algorithm/" + std::to_string(algorithm_version) + "|" + surface + "|" + numbers;
     for (const std::string& f : o.gradient_fields) text += '\0' + f;

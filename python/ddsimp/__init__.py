@@ -59,10 +59,10 @@ def _unpack(points, triangles, fields, kinds=None):
 
 def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D["keep"],
              target_triangles=None, max_weight=_D["max_weight"], strategy=_D["strategy"],
-             placement=_D["placement"], terms=_D["terms"], gradient_fields=None,
-             feature_angle=_D["feature_angle"], line_tolerance=_D["line_tolerance"],
-             max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None,
-             kinds=None):
+             placement=_D["placement"], data_placement=_D["data_placement"], terms=_D["terms"],
+             gradient_fields=None, feature_angle=_D["feature_angle"],
+             line_tolerance=_D["line_tolerance"], max_normal_turn=_D["max_normal_turn"],
+             threads=_D["threads"], progress=None, kinds=None):
     """Reduces a surface; returns a Result (points, triangles, fields, target_reached, stop...).
 
     points (N, 3), triangles (M, 3), fields {name: (N,) or (N, k)}; or one mesh as `points`.
@@ -71,6 +71,8 @@ def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D[
     max_weight: also stop when the lightest element weighs more than this.
     strategy: "edge" (collapse) or "vertex" (removal; data stays exact).
     placement: "least-error", "midpoint" or "volume" (edge collapse's new point).
+    data_placement: "least-error" (clamped to the two values it replaces) or "interpolated"
+        (along the edge): edge collapse's data at the new point.
     terms: "quadrics" (error against the input) or "paper" (angle deficit and data gradient).
     gradient_fields: names of the fields that drive the data term (None: the continuous ones).
     feature_angle: dihedral angle in degrees above which an edge is a feature (180: none).
@@ -82,10 +84,10 @@ def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D[
     points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
     return _ddsimp.simplify(
         points, triangles, fields, alpha=alpha, keep=keep, target_triangles=target_triangles,
-        max_weight=max_weight, strategy=strategy, placement=placement, terms=terms,
-        gradient_fields=gradient_fields, feature_angle=feature_angle,
-        line_tolerance=line_tolerance, max_normal_turn=max_normal_turn, threads=threads,
-        progress=progress, kinds=kinds)
+        max_weight=max_weight, strategy=strategy, placement=placement,
+        data_placement=data_placement, terms=terms, gradient_fields=gradient_fields,
+        feature_angle=feature_angle, line_tolerance=line_tolerance,
+        max_normal_turn=max_normal_turn, threads=threads, progress=progress, kinds=kinds)
 
 
 class ProgressiveRecord(_ddsimp.ProgressiveRecord):
@@ -98,17 +100,17 @@ class ProgressiveRecord(_ddsimp.ProgressiveRecord):
 
     def __init__(self, points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=0.0,
                  target_triangles=None, max_weight=_D["max_weight"], strategy=_D["strategy"],
-                 placement=_D["placement"], terms=_D["terms"], gradient_fields=None,
-                 feature_angle=_D["feature_angle"], line_tolerance=_D["line_tolerance"],
-                 max_normal_turn=_D["max_normal_turn"], threads=_D["threads"], progress=None,
-                 kinds=None):
+                 placement=_D["placement"], data_placement=_D["data_placement"],
+                 terms=_D["terms"], gradient_fields=None, feature_angle=_D["feature_angle"],
+                 line_tolerance=_D["line_tolerance"], max_normal_turn=_D["max_normal_turn"],
+                 threads=_D["threads"], progress=None, kinds=None):
         points, triangles, fields, kinds = _unpack(points, triangles, fields, kinds)
         super().__init__(
             points, triangles, fields, alpha=alpha, keep=keep, target_triangles=target_triangles,
-            max_weight=max_weight, strategy=strategy, placement=placement, terms=terms,
-            gradient_fields=gradient_fields, feature_angle=feature_angle,
-            line_tolerance=line_tolerance, max_normal_turn=max_normal_turn, threads=threads,
-            progress=progress, kinds=kinds)
+            max_weight=max_weight, strategy=strategy, placement=placement,
+            data_placement=data_placement, terms=terms, gradient_fields=gradient_fields,
+            feature_angle=feature_angle, line_tolerance=line_tolerance,
+            max_normal_turn=max_normal_turn, threads=threads, progress=progress, kinds=kinds)
 
 
 def read(path):
@@ -150,13 +152,15 @@ class Client(_ddsimp.Client):
         return super().upload(points, triangles, fields, kinds, name=name, session=session)
 
     def simplify(self, surface, keep=(0.5, 0.25, 0.1), *, alpha=0.5, strategy="edge",
-                 placement=_D["placement"], gradient_fields=None, feature_angle=180.0):
+                 placement=_D["placement"], data_placement=_D["data_placement"],
+                 gradient_fields=None, feature_angle=180.0):
         """Asks the server for levels of a stored surface (its id); returns a list of Level
         (Mesh with keep, triangle_count, target_reached, cached, error...) in the order of
         `keep`, or one Level when `keep` is a number."""
         single = isinstance(keep, (int, float))
         levels = self.request_levels(surface, [keep] if single else list(keep), alpha, strategy,
-                                     placement, list(gradient_fields or []), feature_angle)
+                                     placement, data_placement, list(gradient_fields or []),
+                                     feature_angle)
         return levels[0] if single else levels
 
     def watch(self, session, key="", *, timeout=None):

@@ -139,6 +139,7 @@ UploadResult upload(Client& client, py::handle points, py::handle triangles, py:
 std::vector<PyLevel> request_levels(Client& client, const std::string& surface,
                                     const std::vector<double>& keep, double alpha,
                                     const std::string& strategy, const std::string& placement,
+                                    const std::string& data_placement,
                                     const std::vector<std::string>& gradient_fields,
                                     double feature_angle) {
     LevelRequest r;
@@ -155,6 +156,13 @@ std::vector<PyLevel> request_levels(Client& client, const std::string& surface,
     else
         throw InputError("placement must be \"least-error\", \"midpoint\" or \"volume\", not \"" +
                          placement + "\"");
+    if (data_placement == "least-error")
+        r.data_placement = DataPlacement::LeastError;
+    else if (data_placement == "interpolated")
+        r.data_placement = DataPlacement::Interpolated;
+    else
+        throw InputError("data_placement must be \"least-error\" or \"interpolated\", not \"" +
+                         data_placement + "\"");
     r.gradient_fields = gradient_fields;
     r.feature_angle = feature_angle;
     PendingRequest pending = client.request(r);
@@ -261,7 +269,7 @@ void bind_client(py::module_& m) {
                  return f.get();
              })
         .def("request_levels", &request_levels, py::arg("surface"), py::arg("keep"),
-             py::arg("alpha"), py::arg("strategy"), py::arg("placement"),
+             py::arg("alpha"), py::arg("strategy"), py::arg("placement"), py::arg("data_placement"),
              py::arg("gradient_fields"), py::arg("feature_angle"))
         .def(
             "join",

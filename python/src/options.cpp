@@ -62,6 +62,7 @@ py::dict option_defaults() {
     d["max_weight"] = o.max_weight;
     d["strategy"] = strategy_name(o.strategy);
     d["placement"] = "least-error";
+    d["data_placement"] = "least-error";
     d["terms"] = "quadrics";
     d["gradient_fields"] = py::none();
     d["feature_angle"] = o.feature_angle;
@@ -72,10 +73,11 @@ py::dict option_defaults() {
 }
 
 Options options_from_kwargs(const py::kwargs& kwargs) {
-    static const std::set<std::string> known{
-        "alpha",           "keep",    "target_triangles", "max_weight",    "strategy",
-        "placement",       "terms",   "gradient_fields",  "feature_angle", "line_tolerance",
-        "max_normal_turn", "threads", "progress"};
+    static const std::set<std::string> known{"alpha",          "keep",           "target_triangles",
+                                             "max_weight",     "strategy",       "placement",
+                                             "data_placement", "terms",          "gradient_fields",
+                                             "feature_angle",  "line_tolerance", "max_normal_turn",
+                                             "threads",        "progress"};
     for (auto item : kwargs) {
         const auto name = item.first.cast<std::string>();
         if (!known.count(name)) throw InputError("unknown option \"" + name + "\"");
@@ -100,6 +102,14 @@ Options options_from_kwargs(const py::kwargs& kwargs) {
         throw InputError("placement must be one of " +
                          choices({"least-error", "midpoint", "volume"}) + ", not \"" + placement +
                          "\"");
+    const auto data = option(kwargs, "data_placement", std::string("least-error"));
+    if (data == "least-error")
+        o.data_placement = DataPlacement::LeastError;
+    else if (data == "interpolated")
+        o.data_placement = DataPlacement::Interpolated;
+    else
+        throw InputError("data_placement must be one of " +
+                         choices({"least-error", "interpolated"}) + ", not \"" + data + "\"");
     const auto terms = option(kwargs, "terms", std::string("quadrics"));
     if (terms == "quadrics")
         o.terms = Terms::ErrorQuadrics;

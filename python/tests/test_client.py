@@ -58,6 +58,15 @@ def test_upload_list_and_levels_as_numpy_arrays(server, vectors):
         one = client.simplify(stored.surface, keep=0.2, strategy="vertex")
         assert one.cached and one.triangles.tobytes() == levels[1].triangles.tobytes()
 
+        # Edge collapse's data placement travels: the library's level for the same options.
+        interpolated = client.simplify(stored.surface, keep=0.2, alpha=0.0,
+                                       data_placement="interpolated")
+        local = ddsimp.simplify(vectors, keep=0.2, alpha=0.0, data_placement="interpolated")
+        assert interpolated.points.tobytes() == local.points.tobytes()
+        assert interpolated.fields["Temp"].tobytes() == local.fields["Temp"].tobytes()
+        least_error = client.simplify(stored.surface, keep=0.2, alpha=0.0)
+        assert least_error.fields["Temp"].tobytes() != interpolated.fields["Temp"].tobytes()
+
 
 def test_server_refusals_are_client_errors_with_their_code(server, vectors):
     with connect(server) as client:

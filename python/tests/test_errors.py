@@ -58,6 +58,8 @@ def test_bad_options_say_what_is_allowed():
         ddsimp.simplify(POINTS, TRIANGLES, strategy="collapse")
     with pytest.raises(ddsimp.InputError, match="least-error"):
         ddsimp.simplify(POINTS, TRIANGLES, placement="centre")
+    with pytest.raises(ddsimp.InputError, match='"least-error", "interpolated"'):
+        ddsimp.simplify(POINTS, TRIANGLES, data_placement="mean")
     with pytest.raises(ddsimp.InputError, match="(?i)alpha"):
         ddsimp.simplify(POINTS, TRIANGLES, alpha=1.5)
     with pytest.raises(ddsimp.InputError, match="list of field names"):

@@ -85,11 +85,13 @@ def test_the_options_mean_what_the_command_line_options_mean(earth, data, cli, t
     """The same options through the command line give the same surface (the options mapping)."""
     out = tmp_path / "earth.vtp"
     args = ["--alpha", "0.3", "--keep", "0.15", "--strategy", "edge", "--placement", "midpoint",
-            "--feature-angle", "60", "--max-normal-turn", "45", "--line-tolerance", "10"]
+            "--data", "interpolated", "--feature-angle", "60", "--max-normal-turn", "45",
+            "--line-tolerance", "10"]
     report = subprocess.run([cli, "simplify", str(data / "surfaces" / "earth.vtp"), "-o",
                              str(out), "--json", *args], check=True, capture_output=True, text=True)
     r = ddsimp.simplify(earth, alpha=0.3, keep=0.15, strategy="edge", placement="midpoint",
-                        feature_angle=60, max_normal_turn=45, line_tolerance=10)
+                        data_placement="interpolated", feature_angle=60, max_normal_turn=45,
+                        line_tolerance=10)
     assert json.loads(report.stdout)["triangles_out"] == len(r.triangles)
     reader = vtkXMLPolyDataReader()
     reader.SetFileName(str(out))
@@ -100,6 +102,15 @@ def test_the_options_mean_what_the_command_line_options_mean(earth, data, cli, t
     np.testing.assert_array_equal(cells, r.triangles)
     np.testing.assert_array_equal(
         vtk_to_numpy(poly.GetPointData().GetArray("bottomDepth")), r.fields["bottomDepth"])
+
+
+def test_data_placement_chooses_the_new_points_data(earth):
+    """Least error (the default) and interpolation give the same kind of surface with other data."""
+    least = ddsimp.simplify(earth, alpha=0.0, keep=0.2)
+    assert ddsimp.simplify(earth, alpha=0.0, keep=0.2, data_placement="least-error").fields[
+        "bottomDepth"].tobytes() == least.fields["bottomDepth"].tobytes()
+    interpolated = ddsimp.simplify(earth, alpha=0.0, keep=0.2, data_placement="interpolated")
+    assert least.fields["bottomDepth"].tobytes() != interpolated.fields["bottomDepth"].tobytes()
 
 
 def test_gradient_fields_choose_the_data_that_drives_the_weight(vectors):

@@ -126,6 +126,13 @@ GlbDownload parse_glb_download(std::string_view target, std::string_view authori
                 d.error = "placement=" + value + ": least-error, midpoint or volume";
                 return d;
             }
+        } else if (name == "data") {
+            if (value != "least-error" && value != "interpolated") {
+                d.error = "data=" + value + ": least-error or interpolated";
+                return d;
+            }
+            options.data_placement =
+                value == "interpolated" ? DataPlacement::Interpolated : DataPlacement::LeastError;
         } else if (name == "terms") {
             if (value != "quadrics" && value != "paper") {
                 d.error = "terms=" + value + ": quadrics or paper";
@@ -170,8 +177,8 @@ GlbDownload parse_glb_download(std::string_view target, std::string_view authori
             d.key = value;
         } else {
             d.error = "unknown parameter '" + name +
-                      "' (alpha, keep, strategy, placement, terms, fields, feature-angle, field, "
-                      "meshopt, token, session, key)";
+                      "' (alpha, keep, strategy, placement, data, terms, fields, feature-angle, "
+                      "field, meshopt, token, session, key)";
             return d;
         }
     }

@@ -1,6 +1,7 @@
 // GET /surfaces/ID/level.glb: any level the server can serve, as binary glTF (protocol/glb.h),
 // behind the server's token. Query parameters:
 //   alpha=0.5  keep=0.5  strategy=edge|vertex  placement=least-error|midpoint|volume
+//   data=least-error|interpolated (edge collapse's data at the new point)
 //   terms=quadrics|paper  fields=A,B (the fields that drive the data term; default: all)
 //   feature-angle=DEGREES (in (0, 180]; 180, the default: no feature edges)
 //   field=NAME (the colours; default: the first continuous scalar that varies)  meshopt=1

@@ -502,6 +502,16 @@ TEST_F(ClientServer, RemoteCommandsEndToEnd) {
     EXPECT_EQ(lines[0]["geometric_error"].get<double>(), 0);
     EXPECT_GT(lines[0]["data_error"].get<double>(), 0);
 
+    // So is --data interpolated.
+    CliRun interpolated = run_cli("remote simplify --surface " + id +
+                                      " --alpha 0.5 --keep 0.5 --data interpolated -o " +
+                                      (dir_ / "interpolated").string() + server,
+                                  dir_);
+    ASSERT_EQ(interpolated.status, 0) << interpolated.err;
+    lines = exact_lines(interpolated.out);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_NE(lines[0]["result"], least_error_result);
+
     CliRun missing =
         run_cli("remote simplify --surface nope --keep 0.5 -o " + out.string() + server, dir_);
     EXPECT_EQ(missing.status, 1);

@@ -25,6 +25,7 @@ TEST(ReductionOptions, AnEmptyRequestHasTheLibrarysDefaults) {
     EXPECT_EQ(o.alpha, library.alpha);
     EXPECT_EQ(o.strategy, library.strategy);
     EXPECT_EQ(o.placement, library.placement);
+    EXPECT_EQ(o.data_placement, library.data_placement);
     EXPECT_EQ(o.terms, library.terms);
     EXPECT_EQ(o.feature_angle, library.feature_angle); // the wire's 0 is "none", as 180 is
     EXPECT_EQ(o.keep_fraction, 0.0);                   // the levels come from keep
@@ -33,6 +34,7 @@ TEST(ReductionOptions, AnEmptyRequestHasTheLibrarysDefaults) {
     set_defaults(d);
     EXPECT_EQ(d.alpha(), library.alpha);
     EXPECT_EQ(from_wire(d.placement()), library.placement);
+    EXPECT_EQ(from_wire(d.data_placement()), library.data_placement);
     EXPECT_EQ(d.feature_angle(), library.feature_angle);
 }
 
@@ -41,6 +43,7 @@ TEST(ReductionOptions, OptionsSurviveTheWireExactly) {
     o.alpha = 0.123456789012345;
     o.strategy = Strategy::VertexRemoval;
     o.placement = Placement::VolumePreserving;
+    o.data_placement = DataPlacement::Interpolated;
     o.terms = Terms::AngleDeficitGradient;
     o.gradient_fields = {"pressure", "velocity"};
     o.feature_angle = 45;
@@ -52,6 +55,7 @@ TEST(ReductionOptions, OptionsSurviveTheWireExactly) {
     EXPECT_EQ(back.alpha, o.alpha);
     EXPECT_EQ(back.strategy, o.strategy);
     EXPECT_EQ(back.placement, o.placement);
+    EXPECT_EQ(back.data_placement, o.data_placement);
     EXPECT_EQ(back.terms, o.terms);
     EXPECT_EQ(back.gradient_fields, o.gradient_fields);
     EXPECT_EQ(back.feature_angle, 45.0);
@@ -88,6 +92,7 @@ TEST(ReductionOptions, TheKeyChangesWithEveryOptionThatChangesTheOutput) {
     EXPECT_TRUE(differs([](Options& o) { o.alpha = double(0.5f) + 1e-12; }));
     EXPECT_TRUE(differs([](Options& o) { o.strategy = Strategy::VertexRemoval; }));
     EXPECT_TRUE(differs([](Options& o) { o.placement = Placement::Midpoint; }));
+    EXPECT_TRUE(differs([](Options& o) { o.data_placement = DataPlacement::Interpolated; }));
     EXPECT_TRUE(differs([](Options& o) { o.terms = Terms::AngleDeficitGradient; }));
     EXPECT_TRUE(differs([](Options& o) { o.feature_angle = 60; }));
     EXPECT_TRUE(differs([](Options& o) { o.gradient_fields = {"f"}; }));

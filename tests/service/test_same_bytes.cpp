@@ -103,14 +103,15 @@ TEST_F(SameBytes, DefaultsAreTheLibrarys) {
 }
 
 // GET /surfaces/ID/level.glb holds the library's result for the same options: the same
-// positions, triangles and fields (as _NAME attributes).
+// positions, triangles and fields (as _NAME attributes; the edge collapse's data interpolated).
 TEST_F(SameBytes, ADownloadedGlbHoldsTheLibrarysLevel) {
     for (const Case c : {Case{Strategy::EdgeCollapse, Placement::VolumePreserving, 0.3},
                          Case{Strategy::VertexRemoval, Placement::LeastError, 0.7}}) {
         const bool edge = c.strategy == Strategy::EdgeCollapse;
-        const std::string query = std::string("?alpha=") + (c.alpha < 0.5 ? "0.3" : "0.7") +
-                                  "&keep=0.1&strategy=" + (edge ? "edge" : "vertex") +
-                                  "&placement=" + (edge ? "volume" : "least-error");
+        const std::string query =
+            std::string("?alpha=") + (c.alpha < 0.5 ? "0.3" : "0.7") +
+            "&keep=0.1&strategy=" + (edge ? "edge" : "vertex") +
+            "&placement=" + (edge ? "volume&data=interpolated" : "least-error");
         SCOPED_TRACE(query);
         const std::string response =
             test::http_get(server_->http_port, "/surfaces/" + *surface_ + "/level.glb" + query);
@@ -123,6 +124,7 @@ TEST_F(SameBytes, ADownloadedGlbHoldsTheLibrarysLevel) {
         local.alpha = c.alpha;
         local.strategy = c.strategy;
         local.placement = c.placement;
+        if (edge) local.data_placement = DataPlacement::Interpolated;
         local.keep_fraction = 0.1;
         const Surface expected = simplify(input(), local).surface;
         const std::vector<double> positions(expected.positions.begin(), expected.positions.end());

@@ -76,6 +76,9 @@ test('without the token, with a wrong one, or with bad parameters: refused with 
     assert.match(text(r), /keep=2 is not a number in \(0, 1\]/);
     r = await get(`keep=0.5&strategy=best&token=${TOKEN}`);
     assert.equal(r.status, 400);
+    r = await get(`keep=0.5&data=mean&token=${TOKEN}`);
+    assert.equal(r.status, 400);
+    assert.match(text(r), /data=mean: least-error or interpolated/);
     r = await get(`keep=0.5&terms=best&token=${TOKEN}`);
     assert.equal(r.status, 400);
     assert.match(text(r), /terms=best: quadrics or paper/);

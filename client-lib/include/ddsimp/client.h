@@ -134,9 +134,9 @@ enum class Encoding { Raw, Meshopt };
 
 // One reduction request: a surface (or the key of an earlier result), the library's options
 // for it, and the levels wanted. The options are ddsimp::Options themselves (alpha, strategy,
-// placement, terms, gradient_fields, feature_angle travel; the levels come from `keep`, not
-// keep_fraction or target_triangles), so a request gives the bytes ddsimp::simplify gives with
-// the same options.
+// placement, data_placement, terms, gradient_fields, feature_angle travel; the levels come
+// from `keep`, not keep_fraction or target_triangles), so a request gives the bytes
+// ddsimp::simplify gives with the same options.
 struct LevelRequest : Options {
     std::string surface; // surface id
     // Instead of surface and the options: the key of an earlier result (Level::result), to

@@ -62,6 +62,9 @@ int vtkDataDependentDecimation::RequestData(vtkInformation*, vtkInformationVecto
     options.placement = this->Placement == MIDPOINT            ? ddsimp::Placement::Midpoint
                         : this->Placement == VOLUME_PRESERVING ? ddsimp::Placement::VolumePreserving
                                                                : ddsimp::Placement::LeastError;
+    options.data_placement = this->DataPlacement == DATA_INTERPOLATED
+                                 ? ddsimp::DataPlacement::Interpolated
+                                 : ddsimp::DataPlacement::LeastError;
     options.feature_angle = this->FeatureAngle;
     options.gradient_fields = this->DrivingFields;
     // The output is the same at any thread count.
@@ -95,6 +98,7 @@ void vtkDataDependentDecimation::PrintSelf(ostream& os, vtkIndent indent) {
        << indent << "Keep: " << this->Keep << "\n"
        << indent << "Strategy: " << this->Strategy << "\n"
        << indent << "Placement: " << this->Placement << "\n"
+       << indent << "DataPlacement: " << this->DataPlacement << "\n"
        << indent << "FeatureAngle: " << this->FeatureAngle << "\n"
        << indent << "DrivingFields:";
     for (const auto& f : this->DrivingFields) os << " " << f;

@@ -21,6 +21,7 @@ public:
 
     enum StrategyType { EDGE_COLLAPSE = 0, VERTEX_REMOVAL = 1 };
     enum PlacementType { LEAST_ERROR = 0, MIDPOINT = 1, VOLUME_PRESERVING = 2 };
+    enum DataPlacementType { DATA_LEAST_ERROR = 0, DATA_INTERPOLATED = 1 };
 
     // Weight of curvature against the data gradient, in [0, 1].
     vtkSetClampMacro(Alpha, double, 0.0, 1.0);
@@ -33,6 +34,9 @@ public:
     // Where an edge collapse puts the new point.
     vtkSetClampMacro(Placement, int, LEAST_ERROR, VOLUME_PRESERVING);
     vtkGetMacro(Placement, int);
+    // The data an edge collapse gives the new point (ddsimp::DataPlacement).
+    vtkSetClampMacro(DataPlacement, int, DATA_LEAST_ERROR, DATA_INTERPOLATED);
+    vtkGetMacro(DataPlacement, int);
     // Dihedral angle (degrees) above which an edge is a feature line; 180: none.
     vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
     vtkGetMacro(FeatureAngle, double);
@@ -50,6 +54,7 @@ protected:
     double Keep = 0.1;
     int Strategy = EDGE_COLLAPSE;
     int Placement = LEAST_ERROR;
+    int DataPlacement = DATA_LEAST_ERROR;
     double FeatureAngle = 180.0;
     std::vector<std::string> DrivingFields;
 

@@ -20,13 +20,15 @@ v1::Strategy to_wire(Strategy strategy);
 Strategy from_wire(v1::Strategy strategy); // unspecified: the library's default
 v1::Placement to_wire(Placement placement);
 Placement from_wire(v1::Placement placement); // unspecified: the library's default
+v1::DataPlacement to_wire(DataPlacement data_placement);
+DataPlacement from_wire(v1::DataPlacement data_placement); // unspecified: the library's default
 v1::Terms to_wire(Terms terms);
 Terms from_wire(v1::Terms terms); // unspecified: the library's default
 
-// The options a Request asks for: alpha (alpha_exact if present), strategy, placement, terms,
-// gradient fields, feature angle (0 on the wire: none, 180); everything else the library's
-// defaults, keep_fraction 0 (the levels come from the request's keep list). Throws InputError
-// (check_options) when a value is out of range.
+// The options a Request asks for: alpha (alpha_exact if present), strategy, placement, data
+// placement, terms, gradient fields, feature angle (0 on the wire: none, 180); everything else the
+// library's defaults, keep_fraction 0 (the levels come from the request's keep list). Throws
+// InputError (check_options) when a value is out of range.
 Options options_from(const v1::Request& request);
 // Writes those options into `request` (alpha both as float and exactly).
 void set_options(v1::Request& request, const Options& options);
