@@ -185,7 +185,9 @@ def losses_text(goals, surfaces):
                         why.append("it places new points with the data quadric's least-squares "
                                    "values" + ("; vertex removal keeps a subset of the input's "
                                                "values" if strategy == "vertex" else
-                                               "; edge collapse interpolates along the edge"))
+                                               "; edge collapse chooses its point for the "
+                                               "interpolated data and fits the data there "
+                                               "afterwards"))
                     else:
                         why.append("it keeps a subset of the input's vertices and their "
                                    "values: its error measure chose them better than ddsimp's "
