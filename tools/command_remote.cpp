@@ -1,5 +1,5 @@
 // ddsimp remote ...: the commands that talk to ddsimp-server through libddsimp-client. This file
-// holds what they share (connection options, errors) and the small ones: upload and list.
+// holds what they share (connection options, errors) and the small ones: upload, list, delete.
 #include "command_remote.h"
 
 #include "cli_support.h"
@@ -142,6 +142,16 @@ int run_list(const RemoteArgs& args, bool json) {
     });
 }
 
+int run_delete(const RemoteArgs& args, const std::string& surface) {
+    return with_server_errors(args, [&] {
+        Client client;
+        connect_remote(client, args);
+        const bool removed = client.delete_surface(surface);
+        print_json_line({{"surface", surface}, {"removed", removed}});
+        return kExitOk;
+    });
+}
+
 } // namespace
 
 Command add_remote_upload(CLI::App& remote) {
@@ -164,13 +174,24 @@ Command add_remote_list(CLI::App& remote) {
     return {sub, [args, json] { return run_list(*args, *json); }};
 }
 
+Command add_remote_delete(CLI::App& remote) {
+    auto args = std::make_shared<RemoteArgs>();
+    auto surface = std::make_shared<std::string>();
+    CLI::App* sub = remote.add_subcommand(
+        "delete",
+        "Delete a surface your token uploaded (removed: false if another token keeps it)");
+    sub->add_option("surface", *surface, "The surface's id (see ddsimp remote list)")->required();
+    add_remote_options(*sub, *args);
+    return {sub, [args, surface] { return run_delete(*args, *surface); }};
+}
+
 Command add_remote_command(CLI::App& app) {
-    CLI::App* remote =
-        app.add_subcommand("remote", "Talk to ddsimp-server: upload, list, simplify, watch, set");
+    CLI::App* remote = app.add_subcommand(
+        "remote", "Talk to ddsimp-server: upload, list, delete, simplify, watch, set");
     remote->require_subcommand(1);
     auto commands = std::make_shared<std::vector<Command>>(std::vector<Command>{
-        add_remote_upload(*remote), add_remote_list(*remote), add_remote_simplify(*remote),
-        add_remote_watch(*remote), add_remote_set(*remote)});
+        add_remote_upload(*remote), add_remote_list(*remote), add_remote_delete(*remote),
+        add_remote_simplify(*remote), add_remote_watch(*remote), add_remote_set(*remote)});
     return {remote, [commands] {
                 for (const Command& c : *commands)
                     if (c.app->parsed()) return c.run();

@@ -102,6 +102,7 @@ struct Client::Impl {
     std::shared_ptr<std::promise<void>> handshake;
     ConnectOptions active; // the options of the current connection
     std::map<uint64_t, std::promise<UploadResult>> uploads;
+    std::map<uint64_t, std::promise<bool>> deletes;
     std::map<uint64_t, RequestState> requests;
     std::deque<ControlOp> control;
     std::map<std::pair<uint64_t, uint32_t>, IncomingMesh> incoming;
@@ -208,6 +209,7 @@ struct Client::Impl {
     void cut_upload_chunk();
     void on_upload_result(const v1::UploadResult& message);
     void on_surface_list(const v1::SurfaceList& message);
+    void on_surface_deleted(const v1::SurfaceDeleted& message);
 
     // ----- sessions (sessions.cpp) -----
 

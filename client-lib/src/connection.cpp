@@ -27,6 +27,8 @@ void Client::Impl::shut(const ClientError& error) {
     }
     for (auto& [id, promise] : uploads) promise.set_exception(as_exception(error));
     uploads.clear();
+    for (auto& [id, promise] : deletes) promise.set_exception(as_exception(error));
+    deletes.clear();
     upload_jobs.clear();
     for (auto& [id, r] : requests) fail_request(r, error);
     requests.clear();
@@ -222,6 +224,8 @@ void Client::Impl::dispatch(const protocol::Frame& frame) {
         return on_upload_result(parse_payload<v1::UploadResult>(frame));
     case v1::SURFACE_LIST:
         return on_surface_list(parse_payload<v1::SurfaceList>(frame));
+    case v1::SURFACE_DELETED:
+        return on_surface_deleted(parse_payload<v1::SurfaceDeleted>(frame));
     case v1::MESH_BEGIN:
         return on_mesh_begin(parse_payload<v1::MeshBegin>(frame));
     case v1::MESH_CHUNK:
@@ -275,6 +279,9 @@ void Client::Impl::on_error(const v1::Error& message) {
             u->second.set_exception(as_exception(error));
             uploads.erase(u);
             std::erase_if(upload_jobs, [id](const UploadJob& j) { return j.id == id; });
+        } else if (auto d = deletes.find(id); d != deletes.end()) {
+            d->second.set_exception(as_exception(error));
+            deletes.erase(d);
         } else if (auto r = requests.find(id); r != requests.end()) {
             fail_request(r->second, error);
             requests.erase(r);

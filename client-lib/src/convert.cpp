@@ -29,6 +29,8 @@ const char* error_code_name(ErrorCode code) {
         return "INTERNAL";
     case ErrorCode::Unavailable:
         return "UNAVAILABLE";
+    case ErrorCode::PermissionDenied:
+        return "PERMISSION_DENIED";
     case ErrorCode::Connection:
         return "CONNECTION";
     case ErrorCode::Protocol:
@@ -95,6 +97,8 @@ ErrorCode error_code_of(v1::Error::Code code) {
         return ErrorCode::Cancelled;
     case v1::Error::UNAVAILABLE:
         return ErrorCode::Unavailable;
+    case v1::Error::PERMISSION_DENIED:
+        return ErrorCode::PermissionDenied;
     default:
         return ErrorCode::Internal; // INTERNAL, and codes newer than this client
     }

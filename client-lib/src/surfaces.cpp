@@ -1,4 +1,4 @@
-// Surfaces on the server: uploading one in chunks, and listing those the server holds.
+// Surfaces on the server: uploading one in chunks, listing those the server holds, deleting one.
 #include "client_impl.h"
 
 namespace ddsimp {
@@ -35,6 +35,13 @@ void Client::Impl::on_surface_list(const v1::SurfaceList& message) {
     for (const v1::SurfaceInfo& s : message.surfaces()) list.push_back(from_wire(s));
     op->list->set_value(std::move(list));
     control.erase(op);
+}
+
+void Client::Impl::on_surface_deleted(const v1::SurfaceDeleted& message) {
+    auto d = deletes.find(message.delete_id());
+    if (d == deletes.end()) return;
+    d->second.set_value(message.removed());
+    deletes.erase(d);
 }
 
 std::future<UploadResult> Client::async_upload(const Surface& surface, const std::string& name,
@@ -98,6 +105,29 @@ std::future<std::vector<SurfaceInfo>> Client::async_list_surfaces() {
 std::vector<SurfaceInfo> Client::list_surfaces() {
     auto future = async_list_surfaces();
     return impl_->wait(future, "list_surfaces", true);
+}
+
+std::future<bool> Client::async_delete_surface(const std::string& surface) {
+    auto promise = std::make_shared<std::promise<bool>>();
+    auto future = promise->get_future();
+    impl_->run([impl = impl_.get(), id = impl_->take_id(), surface, promise] {
+        if (!impl->require_connection(*promise)) return;
+        if (!impl->capability("surface-delete"))
+            return promise->set_exception(std::make_exception_ptr(
+                ClientError(ErrorCode::Unavailable, "the server cannot delete surfaces (it has "
+                                                    "no capability \"surface-delete\")")));
+        v1::DeleteSurface message;
+        message.set_delete_id(id);
+        message.set_surface(surface);
+        impl->deletes.emplace(id, std::move(*promise));
+        impl->send(protocol::encode_frame(message));
+    });
+    return future;
+}
+
+bool Client::delete_surface(const std::string& surface) {
+    auto future = async_delete_surface(surface);
+    return impl_->wait(future, "delete_surface", false);
 }
 
 } // namespace ddsimp

@@ -268,6 +268,15 @@ void bind_client(py::module_& m) {
                  wait(f);
                  return f.get();
              })
+        .def(
+            "delete",
+            [](Client& c, const std::string& surface) {
+                auto f = c.async_delete_surface(surface);
+                wait(f);
+                return f.get();
+            },
+            py::arg("surface"),
+            "Takes back this token's upload of a surface; True when it left the server")
         .def("request_levels", &request_levels, py::arg("surface"), py::arg("keep"),
              py::arg("alpha"), py::arg("strategy"), py::arg("placement"), py::arg("data_placement"),
              py::arg("gradient_fields"), py::arg("feature_angle"))

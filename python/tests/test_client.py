@@ -67,6 +67,12 @@ def test_upload_list_and_levels_as_numpy_arrays(server, vectors):
         least_error = client.simplify(stored.surface, keep=0.2, alpha=0.0)
         assert least_error.fields["Temp"].tobytes() != interpolated.fields["Temp"].tobytes()
 
+        assert client.delete(stored.surface)
+        assert stored.surface not in {s.surface for s in client.list()}
+        with pytest.raises(ddsimp.ClientError) as gone:
+            client.delete(stored.surface)
+        assert gone.value.code == "NOT_FOUND"
+
 
 def test_server_refusals_are_client_errors_with_their_code(server, vectors):
     with connect(server) as client:

@@ -79,6 +79,9 @@ Config parse_config(int argc, char** argv) {
     opt("--sample", c.sample, "a surface file loaded at start (\"\" for none)");
     opt("--max-frame-bytes", c.max_frame_bytes, "largest accepted frame");
     opt("--max-surface-triangles", c.max_surface_triangles, "largest accepted upload");
+    opt("--max-surface-mb", c.max_surface_mb,
+        "largest surface in memory (MiB, raw: 12 bytes a triangle, 12 + 4 per field component a "
+        "vertex): larger uploads are refused, larger stored surfaces not read");
     opt("--max-clients", c.max_clients,
         "connections at once: native, HTTP, WebSocket and TLS handshakes together");
     opt("--max-clients-per-address", c.max_clients_per_address,
@@ -87,7 +90,10 @@ Config parse_config(int argc, char** argv) {
         "descriptors kept for the server's own files; the client limits fit below the rest");
     opt("--max-sessions", c.max_sessions, "sessions at once");
     opt("--max-queue-mb", c.max_queue_mb,
-        "per client: bytes waiting to be sent before it is dropped");
+        "per client: MiB waiting to be sent before it is dropped");
+    opt("--max-queue-total-mb", c.max_queue_total_mb,
+        "all clients together: MiB waiting to be sent; the client whose level would pass it is "
+        "dropped");
     opt("--max-upload-mb", c.max_upload_mb,
         "all clients together: MiB of uploads received but not yet stored");
     opt("--max-remembered-kb", c.max_remembered_kb,

@@ -48,6 +48,7 @@ struct Config {
     // limits
     size_t max_frame_bytes = 4u << 20;
     size_t max_surface_triangles = 20'000'000;
+    size_t max_surface_mb = 1024; // the largest surface in memory: an upload's raw bytes
     // Connections at once, every kind counted (native, HTTP, WebSocket, TLS handshakes), and from
     // one address. At start both are lowered to fit the descriptor limit (RLIMIT_NOFILE) less
     // fd_reserve, kept for the server's own files.
@@ -56,6 +57,7 @@ struct Config {
     size_t fd_reserve = 64;
     size_t max_sessions = 64;
     size_t max_queue_mb = 256;        // per client: bytes waiting to be sent
+    size_t max_queue_total_mb = 1024; // all clients together
     size_t max_upload_mb = 1024;      // all clients together: uploads received but not yet stored
     size_t max_remembered_kb = 16384; // result keys remembered after their requests, for resuming
     // Per token and per session (quotas.h): stored surfaces, their MiB, and MiB of uploads in

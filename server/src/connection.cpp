@@ -16,7 +16,7 @@ namespace {
 
 // What this server can do; Welcome answers with the intersection.
 const std::set<std::string> kCapabilities{"meshopt-codec", "progressive", "sessions",
-                                          "session-keys", "previews"};
+                                          "session-keys",  "previews",    "surface-delete"};
 
 } // namespace
 
@@ -112,6 +112,8 @@ void Connection::handle(const protocol::Frame& frame) {
     case v1::LIST_SURFACES:
         parse_payload<v1::ListSurfaces>(frame);
         return service_.list_surfaces(*this);
+    case v1::DELETE_SURFACE:
+        return service_.delete_surface(shared_from_this(), parse_payload<v1::DeleteSurface>(frame));
     case v1::REQUEST:
         return on_request(parse_payload<v1::Request>(frame));
     case v1::CANCEL:
@@ -227,9 +229,14 @@ void Connection::on_upload_begin(const v1::UploadBegin& begin) {
                           std::to_string(begin.vertex_count()) + " vertices, " +
                           std::to_string(begin.triangle_count()) +
                           " triangles and these fields take " + std::to_string(expected));
+    if (expected > uint64_t(config.max_surface_mb) << 20)
+        return refuse(v1::Error::RESOURCE_EXHAUSTED,
+                      fmt::format("{:.1f} MiB, over the server's largest surface of {} MiB "
+                                  "(--max-surface-mb)",
+                                  double(expected) / double(1 << 20), config.max_surface_mb));
     // Nothing is allocated before the bytes are counted against the server-wide budget.
     UploadOwner owner{token_, begin.session(),
-                      begin.session().empty() ? "" : sessions_.at(begin.session())};
+                      begin.session().empty() ? "" : sessions_.at(begin.session()), ""};
     if (auto why = service_.reserve_upload(owner, expected))
         return refuse(v1::Error::RESOURCE_EXHAUSTED, *why);
     Upload& u = uploads_[id];
@@ -386,13 +393,18 @@ void Connection::drop(const std::string& reason) {
 
 void Connection::account_queue() {
     const int64_t now = int64_t(queue_.pending_bytes());
-    service_.metrics().queue_bytes += now - accounted_queue_bytes_;
+    const int64_t grew = now - accounted_queue_bytes_;
+    service_.metrics().queue_bytes += grew;
     accounted_queue_bytes_ = now;
     if (now > service_.metrics().queue_bytes_peak) service_.metrics().queue_bytes_peak = now;
     const size_t limit = service_.config().max_queue_mb << 20;
     if (size_t(now) > limit && !closed_)
-        drop("over " + std::to_string(service_.config().max_queue_mb) +
-             " MiB waiting to be sent (it does not read fast enough)");
+        return drop("over " + std::to_string(service_.config().max_queue_mb) +
+                    " MiB waiting to be sent (it does not read fast enough)");
+    const int64_t all = int64_t(service_.config().max_queue_total_mb << 20);
+    if (grew > 0 && service_.metrics().queue_bytes > all && !closed_)
+        drop("its level would pass the " + std::to_string(service_.config().max_queue_total_mb) +
+             " MiB all clients may have waiting to be sent (--max-queue-total-mb)");
 }
 
 void Connection::pump() {

@@ -26,6 +26,8 @@ public:
     uint64_t id() const { return id_; }
     const v1::Member& member() const { return member_; }
     const std::string& peer() const { return peer_; }
+    // The name of the token it presented (tokens.h); empty: none.
+    const std::string& token() const { return token_; }
     bool open() const { return !closed_; }
     bool has_capability(const std::string& name) const { return capabilities_.count(name) > 0; }
     // The sessions joined: name -> scope (a connection is in at most one session of a name).

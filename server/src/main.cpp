@@ -6,6 +6,7 @@
 #include "http_server.h"
 #include "listener.h"
 #include "logging.h"
+#include "memory_bound.h"
 #include "native_server.h"
 #include "service.h"
 
@@ -34,7 +35,12 @@ int main(int argc, char** argv) {
             tls->use_private_key_file(config.tls_key, boost::asio::ssl::context::pem);
         }
         Service service(io, config);
-        Admission admission(fit_descriptor_limit(config), service.metrics());
+        const ConnectionLimits limits = fit_descriptor_limit(config);
+        Admission admission(limits, service.metrics());
+        const MemoryBound bound = memory_bound(config, limits.total);
+        service.metrics().memory_bound = int64_t(bound.total());
+        spdlog::info("memory clients can make the server hold (docs/operations.md#memory): {}",
+                     bound.describe());
         HttpServer http(service, tls.get());
         route_glb_downloads(http);
         const auto address = [](const std::string& a) { return boost::asio::ip::make_address(a); };

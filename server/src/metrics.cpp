@@ -50,6 +50,9 @@ std::string Metrics::render(const Snapshot& s) const {
            s.surface_loads);
     metric("surface_evictions_total", "counter",
            "Stored surfaces dropped from memory to stay within the bound.", s.surface_evictions);
+    metric("surfaces_deleted_total", "counter",
+           "Stored surfaces deleted by their clients (files, cached results and keys).",
+           s.surfaces_deleted);
     metric("uploads_total", "counter", "Surfaces uploaded.", uploads.load());
     metric("requests_total", "counter", "Reduction requests received.", requests.load());
     metric("request_errors_total", "counter", "Requests ended by an error.", request_errors.load());
@@ -80,6 +83,10 @@ std::string Metrics::render(const Snapshot& s) const {
            remembered_results.load());
     metric("remembered_bytes", "gauge", "Bytes of the remembered result keys.",
            remembered_bytes.load());
+    metric("memory_bound_bytes", "gauge",
+           "The most memory clients can make the server hold beyond its size at rest, from its "
+           "flags (docs/operations.md#memory).",
+           memory_bound.load());
     metric("computations_total", "counter", "Records and levels computed (cache misses that ran).",
            s.computations);
     metric("cache_hits_total", "counter", "Result cache hits.", s.cache_hits);

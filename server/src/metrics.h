@@ -42,6 +42,8 @@ struct Metrics {
     std::atomic<uint64_t> session_views_skipped{0}; // a newer view came before the job ran
     std::atomic<int64_t> remembered_results{0};     // result keys kept for resuming
     std::atomic<int64_t> remembered_bytes{0};
+    // The most clients can make the server hold beyond its size at rest (memory_bound.h).
+    std::atomic<int64_t> memory_bound{0};
 
     // Job latency: time from a request's arrival to its levels being ready to send.
     void observe_job_seconds(double seconds);
@@ -51,6 +53,7 @@ struct Metrics {
         size_t sessions = 0, surfaces = 0;
         size_t surfaces_resident = 0, surface_bytes = 0, surface_pinned_bytes = 0;
         size_t surface_limit_bytes = 0, surface_loads = 0, surface_evictions = 0;
+        size_t surfaces_deleted = 0;
         size_t cache_hits = 0, cache_misses = 0, cache_bytes = 0, cache_entries = 0;
         size_t computations = 0, evictions = 0;
         size_t speculations_pending = 0; // the scheduler's background work, waiting or running

@@ -22,26 +22,29 @@ Quotas::Quotas(const Config& config, const SurfaceStore& store, Metrics& metrics
     : config_(config), store_(store), metrics_(metrics) {}
 
 std::optional<std::string> Quotas::over(const std::string& who, const SurfaceStore::Usage& stored,
-                                        const InProgress& running, uint64_t bytes) const {
+                                        const InProgress& running, uint64_t bytes,
+                                        std::string& stored_quota) const {
     const uint64_t upload_quota = uint64_t(config_.quota_upload_mb) << 20;
     const uint64_t bytes_quota = uint64_t(config_.quota_surfaces_mb) << 20;
     if (running.bytes + bytes > upload_quota)
         return fmt::format("{} has {} of uploads in progress; this one's {} would pass its quota "
                            "of {} (--quota-upload-mb): finish those first",
                            who, mib(running.bytes), mib(bytes), mib(upload_quota));
+    if (!stored_quota.empty()) return std::nullopt;
     if (stored.surfaces + running.uploads + 1 > config_.quota_surfaces)
-        return fmt::format("{} has {} stored surfaces and {} uploads in progress, its quota is {} "
-                           "(--quota-surfaces)",
-                           who, stored.surfaces, running.uploads, config_.quota_surfaces);
-    if (stored.bytes + running.bytes + bytes > bytes_quota)
-        return fmt::format("{} has {} of stored surfaces and {} of uploads in progress; this "
-                           "one's {} would pass its quota of {} (--quota-surfaces-mb)",
-                           who, mib(stored.bytes), mib(running.bytes), mib(bytes),
-                           mib(bytes_quota));
+        stored_quota =
+            fmt::format("{} has {} stored surfaces and {} uploads in progress, its quota is {} "
+                        "(--quota-surfaces)",
+                        who, stored.surfaces, running.uploads, config_.quota_surfaces);
+    else if (stored.bytes + running.bytes + bytes > bytes_quota)
+        stored_quota =
+            fmt::format("{} has {} of stored surfaces and {} of uploads in progress; this "
+                        "one's {} would pass its quota of {} (--quota-surfaces-mb)",
+                        who, mib(stored.bytes), mib(running.bytes), mib(bytes), mib(bytes_quota));
     return std::nullopt;
 }
 
-std::optional<std::string> Quotas::reserve(const UploadOwner& owner, uint64_t bytes) {
+std::optional<std::string> Quotas::reserve(UploadOwner& owner, uint64_t bytes) {
     const uint64_t budget = uint64_t(config_.max_upload_mb) << 20;
     std::optional<std::string> why;
     if (bytes > budget - reserved_)
@@ -50,10 +53,10 @@ std::optional<std::string> Quotas::reserve(const UploadOwner& owner, uint64_t by
                           bytes, config_.max_upload_mb);
     if (!why && !owner.token.empty())
         why = over("your token", store_.usage_of_token(owner.token),
-                   running(by_token_, owner.token), bytes);
+                   running(by_token_, owner.token), bytes, owner.over_quota);
     if (!why && !owner.session_scope.empty())
         why = over("session \"" + owner.session + "\"", store_.usage_of_scope(owner.session_scope),
-                   running(by_session_, owner.session_scope), bytes);
+                   running(by_session_, owner.session_scope), bytes, owner.over_quota);
     if (why) {
         ++metrics_.quota_refusals;
         return why;

@@ -102,7 +102,24 @@ std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& 
     std::lock_guard lock(depths_mutex_);
     // A run that stopped before its target holds every level there is.
     depths_[key][out->record.stop() == StopReason::TargetReached ? depth : 0] = depth;
+    keys_of_surface_[params.surface].insert(key);
     return out;
+}
+
+void Reductions::forget_surface(const std::string& surface) {
+    std::set<std::string> keys;
+    {
+        std::lock_guard lock(depths_mutex_);
+        auto it = keys_of_surface_.find(surface);
+        if (it == keys_of_surface_.end()) return;
+        keys = std::move(it->second);
+        keys_of_surface_.erase(it);
+        for (const std::string& key : keys) depths_.erase(key);
+    }
+    for (const std::string& key : keys) {
+        cache_.erase_prefix("record/" + key + "/");
+        cache_.erase_prefix("level/" + key + "/");
+    }
 }
 
 std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& computed,

@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -71,6 +72,10 @@ public:
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,
                                               float keep, v1::Encoding encoding);
 
+    // Drops the cached records and levels of a deleted surface. A run in progress on it still
+    // caches its record when it ends; that entry goes in its turn, least recently used.
+    void forget_surface(const std::string& surface);
+
 private:
     SurfaceStore& store_;
     ResultCache& cache_;
@@ -80,6 +85,7 @@ private:
     // depth it was run to, to find a cached record deep enough.
     std::mutex depths_mutex_;
     std::map<std::string, std::map<size_t, size_t>> depths_;
+    std::map<std::string, std::set<std::string>> keys_of_surface_; // surface -> result keys run
 };
 
 // Reductions::record, computing the record for this caller if another caller's run of the same

@@ -45,9 +45,18 @@ void RememberedResults::for_surface(
     for (const std::string& key : keys->second) f(key, entries_.at(key).params);
 }
 
+void RememberedResults::forget_surface(const std::string& surface) {
+    auto keys = by_surface_.find(surface);
+    if (keys == by_surface_.end()) return;
+    for (const std::string& key : std::set<std::string>(keys->second)) forget(entries_.find(key));
+}
+
 void RememberedResults::forget_oldest() {
-    auto it = entries_.find(uses_.back());
-    uses_.pop_back();
+    forget(entries_.find(uses_.back()));
+}
+
+void RememberedResults::forget(std::map<std::string, Entry>::iterator it) {
+    uses_.erase(it->second.use);
     auto keys = by_surface_.find(it->second.params.surface);
     keys->second.erase(it->first);
     if (keys->second.empty()) by_surface_.erase(keys);

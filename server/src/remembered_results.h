@@ -24,8 +24,12 @@ public:
     // What `key` computes, or null.
     const ReductionParams* find(const std::string& key);
     // Every remembered key of `surface`.
-    void for_surface(const std::string& surface,
-                     const std::function<void(const std::string&, const ReductionParams&)>& f) const;
+    void
+    for_surface(const std::string& surface,
+                const std::function<void(const std::string&, const ReductionParams&)>& f) const;
+
+    // Forgets every key of a deleted surface.
+    void forget_surface(const std::string& surface);
 
     size_t size() const { return entries_.size(); }
     size_t bytes() const { return bytes_; }
@@ -38,6 +42,7 @@ private:
     };
     static size_t bytes_of(const std::string& key, const ReductionParams& params);
     void forget_oldest();
+    void forget(std::map<std::string, Entry>::iterator it);
 
     const size_t max_bytes_;
     size_t bytes_ = 0;

@@ -63,6 +63,18 @@ void ResultCache::evict_locked() {
     }
 }
 
+size_t ResultCache::erase_prefix(const std::string& prefix) {
+    std::lock_guard lock(mutex_);
+    size_t n = 0;
+    for (auto it = entries_.lower_bound(prefix);
+         it != entries_.end() && it->first.compare(0, prefix.size(), prefix) == 0; ++n) {
+        stats_.bytes -= it->second.bytes;
+        uses_.erase(it->second.use);
+        it = entries_.erase(it);
+    }
+    return n;
+}
+
 ResultCache::Stats ResultCache::stats() const {
     std::lock_guard lock(mutex_);
     Stats s = stats_;

@@ -46,6 +46,10 @@ public:
         return std::static_pointer_cast<const T>(find_erased(key));
     }
 
+    // Drops every cached entry whose key starts with `prefix` (a value in use stays with its
+    // holders); returns how many.
+    size_t erase_prefix(const std::string& prefix);
+
     Stats stats() const;
 
 private:

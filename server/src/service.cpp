@@ -4,6 +4,7 @@
 #include "log_text.h"
 #include "surface_file.h"
 
+#include "ddsimp/protocol/content_hash.h"
 #include "ddsimp/protocol/reduction_options.h"
 #include "ddsimp/protocol/refinement.h"
 
@@ -42,6 +43,11 @@ std::string describe_repairs(const RepairReport& r) {
     return out;
 }
 
+// An upload that would pass a quota of stored surfaces and is not stored already.
+struct OverQuota : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
 int cores() {
     return int(std::max(1u, std::thread::hardware_concurrency()));
 }
@@ -49,7 +55,8 @@ int cores() {
 } // namespace
 
 Service::Service(asio::io_context& io, const Config& config)
-    : io_(io), config_(config), tokens_(config_), store_(config.data_dir, config.surfaces_mb << 20),
+    : io_(io), config_(config), tokens_(config_),
+      store_(config.data_dir, config.surfaces_mb << 20, config.max_surface_mb << 20),
       quotas_(config_, store_, metrics_), cache_(config.cache_mb << 20),
       reductions_(store_, cache_, metrics_, cores()), sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
@@ -128,6 +135,7 @@ std::string Service::metrics_text() {
     s.surfaces_resident = r.resident, s.surface_bytes = r.resident_bytes;
     s.surface_pinned_bytes = r.pinned_bytes, s.surface_limit_bytes = r.limit_bytes;
     s.surface_loads = r.loads, s.surface_evictions = r.evictions;
+    s.surfaces_deleted = r.removals;
     s.cache_hits = cs.hits, s.cache_misses = cs.misses, s.cache_bytes = cs.bytes;
     s.cache_entries = cs.entries, s.computations = cs.computations, s.evictions = cs.evictions;
     s.speculations_pending = scheduler_.background();
@@ -174,6 +182,12 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
                 layout.vertex_count, layout.triangle_count, layout.fields);
             Surface surface = protocol::decode_mesh(bytes, layout);
             const RepairReport repairs = validate(surface);
+            // Over a quota of stored surfaces: stored only if that charges nobody again.
+            if (!owner.over_quota.empty() &&
+                store_.would_charge(protocol::surface_hash(surface), scope)) {
+                ++metrics_.quota_refusals;
+                throw OverQuota(owner.over_quota);
+            }
             const SurfaceStore::Added added =
                 store_.add(begin.name(), std::move(surface), scope, owner.token);
             result.set_upload_id(id);
@@ -185,6 +199,9 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             spdlog::info("client {} uploaded \"{}\" ({} triangles) as {}{}", c->id(),
                          loggable(begin.name()), added.info.triangles, added.info.id,
                          added.already_stored ? " (already stored)" : "");
+        } catch (const OverQuota& e) {
+            error.set_code(v1::Error::RESOURCE_EXHAUSTED);
+            error.set_message("upload " + std::to_string(id) + ": " + e.what());
         } catch (const protocol::BlobError& e) {
             error.set_code(v1::Error::INVALID_ARGUMENT);
             error.set_message("upload " + std::to_string(id) + ": " + e.what());
@@ -238,6 +255,64 @@ void Service::list_surfaces(Connection& c) {
         set_fields(info->mutable_fields(), s);
     }
     c.send(list);
+}
+
+void Service::delete_surface(std::shared_ptr<Connection> c, const v1::DeleteSurface& del) {
+    const uint64_t id = del.delete_id();
+    const std::string& surface = del.surface();
+    if (surface.size() > kMaxNameBytes)
+        return c->send_error(v1::Error::NOT_FOUND, "no surface of that id", id);
+    // A server without per-user tokens is one user: every client's upload is the same user's.
+    const bool one_user = config_.tokens_file.empty();
+    const auto done = [this, c, id, surface](SurfaceStore::Removal outcome, std::string failure) {
+        using R = SurfaceStore::Removal;
+        if (!failure.empty())
+            return c->send_error(v1::Error::UNAVAILABLE,
+                                 "surface " + surface + " cannot be deleted: " + failure, id);
+        switch (outcome) {
+        case R::NotFound:
+            return c->send_error(v1::Error::NOT_FOUND, "no surface " + surface, id);
+        case R::Pinned:
+            return c->send_error(v1::Error::PERMISSION_DENIED,
+                                 "surface " + surface + " is the built-in sample, which stays", id);
+        case R::NotOwner:
+            return c->send_error(v1::Error::PERMISSION_DENIED,
+                                 "surface " + surface +
+                                     " was not uploaded with your token: only a token that "
+                                     "uploaded it deletes it",
+                                 id);
+        case R::Released:
+        case R::Removed:
+            break;
+        }
+        if (outcome == R::Removed) {
+            known_results_.forget_surface(surface);
+            metrics_.remembered_results = int64_t(known_results_.size());
+            metrics_.remembered_bytes = int64_t(known_results_.bytes());
+        }
+        spdlog::info("client {} deleted surface {}{}", c->id(), surface,
+                     outcome == R::Removed ? "" : " (another token keeps it)");
+        v1::SurfaceDeleted answer;
+        answer.set_delete_id(id);
+        answer.set_surface(surface);
+        answer.set_removed(outcome == R::Removed);
+        c->send(answer);
+    };
+    // Removing files waits for a write of the same surface: on the pool.
+    const bool queued =
+        compute(c->id(), [this, done, surface, scopes = c->scopes(), token = c->token(), one_user] {
+            SurfaceStore::Removal outcome = SurfaceStore::Removal::NotFound;
+            std::string failure;
+            try {
+                outcome = store_.remove(surface, scopes, token, one_user);
+                if (outcome == SurfaceStore::Removal::Removed) reductions_.forget_surface(surface);
+            } catch (const std::exception& e) {
+                spdlog::error("cannot delete surface {}: {}", surface, e.what());
+                failure = e.what();
+            }
+            asio::post(io_, [done, outcome, failure] { done(outcome, failure); });
+        });
+    if (!queued) c->send_error(v1::Error::RESOURCE_EXHAUSTED, "too many jobs of yours waiting", id);
 }
 
 // ----- sessions -----

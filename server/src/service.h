@@ -48,8 +48,9 @@ public:
 
     const Tokens& tokens() const { return tokens_; }
     // Uploads in progress, within the quotas of their token and session and the budget of all
-    // (--max-upload-mb): nothing, or why `bytes` more do not fit.
-    std::optional<std::string> reserve_upload(const UploadOwner& owner, uint64_t bytes) {
+    // (--max-upload-mb): nothing, or why `bytes` more do not fit; owner.over_quota: why storing
+    // them would pass a quota of stored surfaces.
+    std::optional<std::string> reserve_upload(UploadOwner& owner, uint64_t bytes) {
         return quotas_.reserve(owner, bytes);
     }
     void release_upload(const UploadOwner& owner, uint64_t bytes) { quotas_.release(owner, bytes); }
@@ -63,6 +64,8 @@ public:
     // another request or session waits for it.
     void cancel_request(Connection& c, uint64_t request_id);
     void list_surfaces(Connection& c);
+    // Takes back the client's upload of a surface (surface_store.h, SurfaceStore::remove).
+    void delete_surface(std::shared_ptr<Connection> c, const v1::DeleteSurface& del);
     void join(std::shared_ptr<Connection> c, const v1::JoinSession& join);
     void leave(Connection& c, const std::string& name);
     void set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change);

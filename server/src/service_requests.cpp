@@ -147,13 +147,15 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
     // The levels are queued whole for the client, within --max-queue-mb: a request whose levels
     // cannot fit is refused before anything is computed.
     const uint64_t bytes = estimated_bytes(*stored, job->targets, job->encoding);
-    const uint64_t queue_bound = uint64_t(config_.max_queue_mb) << 20;
+    const uint64_t queue_bound =
+        uint64_t(std::min(config_.max_queue_mb, config_.max_queue_total_mb)) << 20;
     if (bytes > queue_bound)
         return refuse(v1::Error::RESOURCE_EXHAUSTED,
                       "its " + std::to_string(job->targets.size()) + " levels take about " +
                           std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB, more than the " +
-                          std::to_string(config_.max_queue_mb) +
-                          " MiB a client may have waiting to be sent (--max-queue-mb); ask for "
+                          std::to_string(queue_bound >> 20) +
+                          " MiB a client may have waiting to be sent (--max-queue-mb, "
+                          "--max-queue-total-mb); ask for "
                           "fewer or coarser levels");
 
     const std::string waiter = Computations::request_waiter(c->id(), rid);

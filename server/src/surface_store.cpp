@@ -89,8 +89,8 @@ size_t surface_bytes(const Surface& s) {
     return bytes;
 }
 
-SurfaceStore::SurfaceStore(fs::path dir, size_t memory_bytes)
-    : dir_(std::move(dir)), memory_limit_(memory_bytes) {
+SurfaceStore::SurfaceStore(fs::path dir, size_t memory_bytes, size_t largest_bytes)
+    : dir_(std::move(dir)), memory_limit_(memory_bytes), largest_bytes_(largest_bytes) {
     std::error_code ec;
     fs::create_directories(dir_, ec);
     if (ec)
@@ -191,11 +191,24 @@ std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) {
             keep(e, id, held);
             return held;
         }
+        if (e.bytes > largest_bytes_ + sizeof(Surface))
+            throw SurfaceFileError("surface " + id + " takes " + std::to_string(e.bytes >> 20) +
+                                   " MiB, more than the largest surface the server reads "
+                                   "(--max-surface-mb)");
     }
-    auto loaded = std::make_shared<const Surface>(read(id));
+    std::shared_ptr<const Surface> loaded;
+    try {
+        loaded = std::make_shared<const Surface>(read(id));
+    } catch (const SurfaceFileError&) {
+        std::lock_guard lock(mutex_);
+        if (!entries_.count(id)) return nullptr; // deleted while it was being read
+        throw;
+    }
     std::lock_guard lock(mutex_);
     ++loads_;
-    Entry& e = entries_.at(id);      // entries are never removed
+    auto it = entries_.find(id);
+    if (it == entries_.end()) return loaded; // deleted meanwhile: the caller's alone
+    Entry& e = it->second;
     if (e.surface) return e.surface; // another thread read it meanwhile
     if (auto held = e.in_use.lock()) {
         keep(e, id, held);
@@ -209,7 +222,8 @@ std::shared_ptr<const Surface> SurfaceStore::load(const std::string& id) {
 
 SurfaceStore::Residency SurfaceStore::residency() const {
     std::lock_guard lock(mutex_);
-    return {recent_.size(), resident_bytes_, pinned_bytes_, memory_limit_, loads_, evictions_};
+    return {recent_.size(), resident_bytes_, pinned_bytes_, memory_limit_,
+            loads_,         evictions_,      removals_};
 }
 
 std::optional<StoredSurface> SurfaceStore::visible(const Entry& e,
@@ -317,6 +331,54 @@ void SurfaceStore::persist_scopes(const std::string& id) {
         tokens = it->second.tokens;
     }
     write_scopes(id, labels, tokens);
+}
+
+SurfaceStore::Removal SurfaceStore::remove(const std::string& id,
+                                           const std::set<std::string>& scopes,
+                                           const std::string& token, bool one_user) {
+    // The same order as insert(): a re-upload of the same bytes never interleaves with this.
+    std::lock_guard files(files_mutex_);
+    std::map<std::string, std::string> labels;
+    std::set<std::string> tokens;
+    {
+        std::lock_guard lock(mutex_);
+        auto it = entries_.find(id);
+        if (it == entries_.end() || !visible(it->second, scopes)) return Removal::NotFound;
+        Entry& e = it->second;
+        if (e.pinned) return Removal::Pinned;
+        if (!one_user) {
+            if (!e.tokens.count(token)) return Removal::NotOwner;
+            if (e.tokens.size() > 1) {
+                e.tokens.erase(token);
+                labels = e.labels;
+                tokens = e.tokens;
+            }
+        }
+        if (tokens.empty()) { // out of the index first: no new job finds it
+            if (e.surface) resident_bytes_ -= e.bytes, recent_.erase(e.recent);
+            entries_.erase(it);
+            ++removals_;
+        }
+    }
+    if (!tokens.empty()) {
+        write_scopes(id, labels, tokens);
+        return Removal::Released;
+    }
+    // The surface before its scopes: a crash between the two leaves scopes without a surface,
+    // which the next start ignores.
+    std::error_code ec;
+    for (const char* extension : {kExtension, kScopesExtension}) {
+        const fs::path path = dir_ / (id + extension);
+        if (!fs::remove(path, ec) && ec)
+            throw SurfaceFileError("cannot remove " + path.string() + ": " + ec.message());
+    }
+    return Removal::Removed;
+}
+
+bool SurfaceStore::would_charge(const std::string& id, const std::string& scope) const {
+    std::lock_guard lock(mutex_);
+    auto it = entries_.find(id);
+    return it == entries_.end() || !visible(it->second, {kPublicScope, scope});
 }
 
 std::optional<StoredSurface> SurfaceStore::find(const std::string& id,

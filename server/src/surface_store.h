@@ -55,8 +55,10 @@ public:
     // Loads every complete surface file of `dir` (creating it if missing). Leftover temporary
     // files of an interrupted write are removed; a file that does not load is logged and skipped.
     // Throws std::runtime_error if the directory cannot be created or read.
-    // `memory_bytes`: the most the resident surfaces (the sample aside) may take.
-    explicit SurfaceStore(std::filesystem::path dir, size_t memory_bytes = SIZE_MAX);
+    // `memory_bytes`: the most the resident surfaces (the sample aside) may take; `largest_bytes`:
+    // the most one surface may take (a larger stored one is not read: load() throws).
+    explicit SurfaceStore(std::filesystem::path dir, size_t memory_bytes = SIZE_MAX,
+                          size_t largest_bytes = SIZE_MAX);
 
     struct Added {
         StoredSurface info;
@@ -76,6 +78,24 @@ public:
                const std::string& scope);
     // Writes who may see `id` to the data directory. Throws SurfaceFileError.
     void persist_scopes(const std::string& id);
+
+    // Deleting (slow: not on the network thread). `token` takes back its upload of `id`, which
+    // one of `scopes` must see; the surface leaves the store, its files first, once no token
+    // that uploaded it is left, or at once when `one_user` (a server without per-user tokens).
+    // A job that holds the surface keeps it. Throws SurfaceFileError if the files cannot be
+    // changed.
+    enum class Removal {
+        NotFound, // none of `scopes` sees it
+        NotOwner, // `token` did not upload it
+        Pinned,   // the built-in sample
+        Released, // the token's claim is gone; another token's keeps the surface
+        Removed,
+    };
+    Removal remove(const std::string& id, const std::set<std::string>& scopes,
+                   const std::string& token, bool one_user);
+    // Whether storing `id` where `scope` sees it would charge anyone for it: false when the
+    // surface is already stored and visible there (the public scope or `scope`).
+    bool would_charge(const std::string& id, const std::string& scope) const;
 
     // The surface if one of `scopes` sees it, with the label of the first that does.
     std::optional<StoredSurface> find(const std::string& id,
@@ -102,7 +122,7 @@ public:
         size_t resident = 0, resident_bytes = 0; // held in memory within the bound
         size_t pinned_bytes = 0;                 // the sample's
         size_t limit_bytes = 0;
-        uint64_t loads = 0, evictions = 0;
+        uint64_t loads = 0, evictions = 0, removals = 0;
     };
     Residency residency() const;
 
@@ -137,8 +157,9 @@ private:
     std::map<std::string, Entry> entries_;
     std::list<std::string> recent_; // resident unpinned surfaces, the most recently used first
     size_t memory_limit_;
+    size_t largest_bytes_;
     size_t resident_bytes_ = 0, pinned_bytes_ = 0;
-    uint64_t loads_ = 0, evictions_ = 0;
+    uint64_t loads_ = 0, evictions_ = 0, removals_ = 0;
 };
 
 // The bytes a surface takes in memory (its arrays).

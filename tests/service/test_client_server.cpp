@@ -521,6 +521,18 @@ TEST_F(ClientServer, RemoteCommandsEndToEnd) {
     CliRun usage = run_cli("remote simplify --keep 0.5" + server, dir_); // no -o
     EXPECT_EQ(usage.status, 2) << usage.err;
 
+    // Deleted: gone from the list; a second delete is NOT_FOUND.
+    CliRun deleted = run_cli("remote delete " + id + server, dir_);
+    ASSERT_EQ(deleted.status, 0) << deleted.err;
+    lines = json_lines(deleted.out);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_EQ(lines[0]["surface"], id);
+    EXPECT_EQ(lines[0]["removed"], true);
+    EXPECT_EQ(run_cli("remote list --json" + server, dir_).out, "");
+    CliRun twice = run_cli("remote delete " + id + server, dir_);
+    EXPECT_EQ(twice.status, 1);
+    EXPECT_NE(twice.err.find("NOT_FOUND"), std::string::npos) << twice.err;
+
     const uint16_t closed = test::free_port();
     CliRun unreachable = run_cli("remote list --server localhost:" + std::to_string(closed), dir_);
     EXPECT_EQ(unreachable.status, 1);

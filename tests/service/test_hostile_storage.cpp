@@ -131,10 +131,14 @@ v1::SessionState join(RawClient& c, const std::string& name, const std::string& 
     return c.expect<v1::SessionState>();
 }
 
-// The error an upload gets instead of its result.
+// The error an upload gets instead of its result. `whole`: the bytes are sent too (a quota of
+// stored surfaces refuses once they are known); otherwise UploadBegin alone (refused on it).
 v1::Error refused_upload(RawClient& c, const Surface& s, uint64_t id,
-                         const std::string& session = "") {
-    c.send_bytes(upload_begin_frame(s, id, session));
+                         const std::string& session = "", bool whole = true) {
+    if (whole)
+        for (const std::string& frame : upload_frames(s, id, "test", session)) c.send_bytes(frame);
+    else
+        c.send_bytes(upload_begin_frame(s, id, session));
     const v1::Error e = next_error(c);
     EXPECT_EQ(e.request_id(), id);
     EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED) << e.message();
@@ -147,7 +151,8 @@ bool says(const v1::Error& e, const std::string& what) {
 
 // Every token (one per user, --tokens-file) and every session has its quota of stored surfaces
 // and of uploads in progress: what passes it is refused on its UploadBegin with a message that
-// says which quota, while the other users go on. The quotas hold after a restart.
+// says which quota, while the other users go on: uploads in progress on their UploadBegin, stored
+// surfaces once the bytes are known. The quotas hold after a restart.
 TEST(HostileStorage, QuotasPerTokenAndSessionRefuseWithAClearError) {
     const fs::path dir = temp_dir("quotas");
     fs::create_directories(dir);
@@ -182,7 +187,7 @@ TEST(HostileStorage, QuotasPerTokenAndSessionRefuseWithAClearError) {
     // Uploads in progress: one of 1 MiB's worth, not two, for Carol; the others are not held up.
     const Surface medium = with_test_fields(icosphere(5)); // about 0.5 MiB
     carol.send_bytes(upload_begin_frame(medium, 1));
-    const v1::Error second = refused_upload(carol, medium, 2);
+    const v1::Error second = refused_upload(carol, medium, 2, "", false);
     EXPECT_TRUE(says(second, "your token has 0.5 MiB of uploads in progress")) << second.message();
     EXPECT_TRUE(says(second, "--quota-upload-mb")) << second.message();
     EXPECT_EQ(m("ddsimp_upload_bytes"),
@@ -208,7 +213,7 @@ TEST(HostileStorage, AnIdleUploadExpiresWhilePingsContinue) {
     const std::vector<std::string> frames = upload_frames(medium, 1);
     holder.send_bytes(frames[0] + frames[1]); // UploadBegin and one chunk, then only pings
 
-    const v1::Error busy = refused_upload(other, medium, 1);
+    const v1::Error busy = refused_upload(other, medium, 1, "", false);
     EXPECT_TRUE(says(busy, "for uploads in progress")) << busy.message();
 
     const auto start = std::chrono::steady_clock::now();

@@ -45,6 +45,7 @@ enum class ErrorCode {
     Cancelled,
     Internal,
     Unavailable,
+    PermissionDenied,
     // Local: cannot connect, the connection was lost or timed out.
     Connection,
     // Local: the server sent something this client cannot read (a bad frame or blob).
@@ -92,7 +93,7 @@ struct ConnectOptions {
     ClientKind kind = ClientKind::Tool;
     // Offered in Hello; only those the server also has are used (see Client::capabilities()).
     std::vector<std::string> capabilities = {"meshopt-codec", "progressive", "sessions",
-                                             "session-keys", "previews"};
+                                             "session-keys",  "previews",    "surface-delete"};
 
     // Limit for connecting and the handshake, and for the blocking calls that wait for a small
     // answer (list_surfaces, join_session, set_view). Uploads and levels wait as long as the
@@ -289,6 +290,14 @@ public:
     // sessions it joined.
     std::vector<SurfaceInfo> list_surfaces();
     std::future<std::vector<SurfaceInfo>> async_list_surfaces();
+
+    // Deletes a stored surface: takes back this client's token's upload of it (see
+    // docs/protocol.md, "Deleting"). True when the surface left the server; false when another
+    // token that uploaded it keeps it. Throws ClientError NotFound (this client does not see it),
+    // PermissionDenied (its token did not upload it), Unavailable (a server without the
+    // capability "surface-delete", or one that cannot change its files).
+    bool delete_surface(const std::string& surface);
+    std::future<bool> async_delete_surface(const std::string& surface);
 
     // Asks for levels; on_level (optional) is called for each as it arrives, coarsest first.
     // Throws ClientError InvalidArgument at once for an empty keep list or a keep outside (0, 1].
