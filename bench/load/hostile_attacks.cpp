@@ -96,9 +96,10 @@ void Attacks::start() {
         [this] { many_levels(); },      [this] { stalled_uploads(0); },
         [this] { stalled_uploads(1); }, [this] { forged_names(); }};
     for (const auto& attack : active) threads_.emplace_back(attack);
+    if (tls_in_use()) threads_.emplace_back([this] { half_tls_handshakes(); });
+    const int attackers = int(active.size()) + (tls_in_use() ? 1 : 0);
     // The attackers above connect first; then silent sockets take whatever places are left.
-    for (int i = 0; i < 100 && entered_ < int(active.size()); ++i)
-        std::this_thread::sleep_for(50ms);
+    for (int i = 0; i < 100 && entered_ < attackers; ++i) std::this_thread::sleep_for(50ms);
     threads_.emplace_back([this] { silent_sockets(); });
 }
 
@@ -128,6 +129,28 @@ void Attacks::silent_sockets() {
                                                 "127.0.0." + std::to_string(2 + i % 8));
             tally_.add(s->connected() ? "silent: opened" : "silent: connect failed");
         }
+    }
+}
+
+// Against a server with TLS: connections to the HTTP port that send their ClientHello and never
+// go on, each opened again when the server closes it (its handshake timeout). The silent sockets
+// on both ports are TLS handshakes that never begin.
+void Attacks::half_tls_handshakes() {
+    constexpr int kConnections = 16;
+    std::vector<std::unique_ptr<RawConnection>> held(kConnections);
+    bool counted = false;
+    while (!stopping_) {
+        for (auto& c : held) {
+            if (stopping_) break;
+            if (c && c->connected() && !c->closed_by_server()) continue;
+            if (c) tally_.add("half TLS handshake: closed by the server");
+            c = std::make_unique<RawConnection>(target_.host, target_.http_port, "127.0.0.10");
+            tally_.add(c->connected() && c->start_tls_handshake_only()
+                           ? "half TLS handshake: ClientHello sent"
+                           : "half TLS handshake: connect failed");
+        }
+        if (!counted) ++entered_, counted = true;
+        pause(0.5);
     }
 }
 

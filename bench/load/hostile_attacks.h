@@ -2,7 +2,9 @@
 // both ports up to the limits, frames sent in part, request + cancel floods, padded requests,
 // requests naming unknown fields, many-level requests of the big surface, uploads that reserve
 // the budget and stall, and client-chosen strings that try to forge log lines. Each attacker is
-// a thread on bare sockets (hostile_wire.h); what the server answered is counted by kind.
+// a thread on bare sockets (hostile_wire.h); what the server answered is counted by kind. Against
+// a server with TLS, every connection speaks TLS, and connections that stop halfway through
+// their handshake are one more attack.
 #pragma once
 
 #include "hostile_wire.h"
@@ -50,6 +52,7 @@ private:
     void many_levels();
     void stalled_uploads(int index);
     void forged_names();
+    void half_tls_handshakes();
 
     // A connection that is in (Hello, Auth), or nothing; counted under `attack`.
     std::unique_ptr<RawConnection> enter(const std::string& attack, const std::string& name = "");

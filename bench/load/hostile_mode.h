@@ -1,8 +1,8 @@
 // ddsimp-load --hostile: every attack of hostile_attacks.h at once against one server while
 // normal clients ask for a cached level of the main surface, and the goals measured:
-// the normal clients' latency during the attack, the server's peak memory against the total
-// docs/operations.md documents for its flags, forged log lines, and its memory after the attack
-// against its memory at idle.
+// the normal clients' latency during the attack, the server's peak memory against the total it
+// states for its flags (ddsimp_memory_bound_bytes, docs/operations.md#memory), forged log lines,
+// and its memory after the attack against its memory at idle.
 #pragma once
 
 #include <string>
@@ -22,6 +22,7 @@ struct HostileSettings {
     std::vector<double> keeps{0.1}; // the cached levels the normal clients ask for
     int normal_clients = 4;
     double attack_seconds = 60;
+    bool tls = false; // the server has TLS (its certificate is not checked)
     bool json = false;
 };
 

@@ -8,11 +8,50 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <openssl/err.h>
+#include <openssl/ssl.h>
+
+#include <fcntl.h>
+
 #include <cstring>
+#include <mutex>
 #include <regex>
 #include <sstream>
 
 namespace ddsimp::load {
+namespace {
+
+std::atomic<bool> g_tls{false};
+
+SSL_CTX* client_context() {
+    static SSL_CTX* context = [] {
+        SSL_CTX* c = SSL_CTX_new(TLS_client_method());
+        SSL_CTX_set_verify(c, SSL_VERIFY_NONE, nullptr);
+        SSL_CTX_set_mode(c, SSL_MODE_ENABLE_PARTIAL_WRITE | SSL_MODE_ACCEPT_MOVING_WRITE_BUFFER);
+        return c;
+    }();
+    return context;
+}
+
+} // namespace
+
+void use_tls(bool on) {
+    g_tls = on;
+}
+bool tls_in_use() {
+    return g_tls;
+}
+
+// One SSL object used by a reader and a writer thread: every call under the mutex, on a
+// non-blocking socket, waiting in poll() outside it.
+struct RawConnection::Tls {
+    SSL* ssl = nullptr;
+    std::mutex mutex;
+    bool started = false, ready = false, failed = false;
+    ~Tls() {
+        if (ssl) SSL_free(ssl);
+    }
+};
 
 RawConnection::RawConnection(const std::string& host, uint16_t port, const std::string& from) {
     addrinfo hints{};
@@ -37,21 +76,99 @@ RawConnection::RawConnection(const std::string& host, uint16_t port, const std::
     if (ok) {
         const int one = 1;
         ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+        if (g_tls) {
+            tls_ = std::make_unique<Tls>();
+            tls_->ssl = SSL_new(client_context());
+            SSL_set_fd(tls_->ssl, fd_);
+            SSL_set_connect_state(tls_->ssl);
+            ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) | O_NONBLOCK);
+        }
     }
 }
 
 RawConnection::~RawConnection() {
+    tls_.reset();
     if (fd_ >= 0) ::close(fd_);
 }
 
-bool RawConnection::send_bytes(const std::string& bytes) {
+bool RawConnection::start_tls_handshake_only() {
+    if (!tls_ || fd_ < 0) return false;
+    std::lock_guard lock(tls_->mutex);
+    if (tls_->started) return false;
+    tls_->started = true;
+    // Non-blocking: writes the ClientHello, then would wait for the server's answer.
+    const int r = SSL_do_handshake(tls_->ssl);
+    return r == 1 || SSL_get_error(tls_->ssl, r) == SSL_ERROR_WANT_READ;
+}
+
+namespace {
+
+// Waits until `fd` is ready for what OpenSSL asked (`error`), up to 100 ms.
+void wait_for(int fd, int error) {
+    pollfd p{fd, short(error == SSL_ERROR_WANT_WRITE ? POLLOUT : POLLIN), 0};
+    ::poll(&p, 1, 100);
+}
+
+} // namespace
+
+ssize_t RawConnection::read_some(char* buffer, size_t size) {
+    if (fd_ < 0) return -1;
+    if (!tls_) return ::recv(fd_, buffer, size, 0);
+    for (;;) {
+        if (shut_) return -1;
+        int error = 0;
+        {
+            std::lock_guard lock(tls_->mutex);
+            if (tls_->failed) return -1;
+            tls_->started = true;
+            const int n = SSL_read(tls_->ssl, buffer, int(std::min<size_t>(size, 1 << 30)));
+            if (n > 0) return n;
+            error = SSL_get_error(tls_->ssl, n);
+            if (error != SSL_ERROR_WANT_READ && error != SSL_ERROR_WANT_WRITE) {
+                tls_->failed = true;
+                ERR_clear_error();
+                return -1;
+            }
+        }
+        wait_for(fd_, error);
+    }
+}
+
+bool RawConnection::write_all(const char* data, size_t size) {
     size_t done = 0;
-    while (fd_ >= 0 && done < bytes.size()) {
-        const ssize_t n = ::send(fd_, bytes.data() + done, bytes.size() - done, MSG_NOSIGNAL);
-        if (n <= 0) return false;
-        done += size_t(n);
+    while (fd_ >= 0 && done < size) {
+        if (!tls_) {
+            const ssize_t n = ::send(fd_, data + done, size - done, MSG_NOSIGNAL);
+            if (n <= 0) return false;
+            done += size_t(n);
+            continue;
+        }
+        if (shut_) return false;
+        int error = 0;
+        {
+            std::lock_guard lock(tls_->mutex);
+            if (tls_->failed) return false;
+            tls_->started = true;
+            const int n =
+                SSL_write(tls_->ssl, data + done, int(std::min<size_t>(size - done, 1 << 30)));
+            if (n > 0) {
+                done += size_t(n);
+                continue;
+            }
+            error = SSL_get_error(tls_->ssl, n);
+            if (error != SSL_ERROR_WANT_READ && error != SSL_ERROR_WANT_WRITE) {
+                tls_->failed = true;
+                ERR_clear_error();
+                return false;
+            }
+        }
+        wait_for(fd_, error);
     }
     return fd_ >= 0;
+}
+
+bool RawConnection::send_bytes(const std::string& bytes) {
+    return write_all(bytes.data(), bytes.size());
 }
 
 std::optional<protocol::Frame> RawConnection::next() {
@@ -62,7 +179,7 @@ std::optional<protocol::Frame> RawConnection::next() {
         } catch (const protocol::FrameError&) {
             return std::nullopt;
         }
-        const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+        const ssize_t n = read_some(buffer, sizeof buffer);
         if (n <= 0) return std::nullopt;
         decoder_.feed(std::string_view(buffer, size_t(n)));
     }
@@ -71,7 +188,7 @@ std::optional<protocol::Frame> RawConnection::next() {
 
 bool RawConnection::receive(std::string& out) {
     char buffer[64 << 10];
-    const ssize_t n = fd_ >= 0 ? ::recv(fd_, buffer, sizeof buffer, 0) : -1;
+    const ssize_t n = read_some(buffer, sizeof buffer);
     if (n <= 0) return false;
     out.append(buffer, size_t(n));
     return true;
@@ -87,6 +204,7 @@ bool RawConnection::closed_by_server() const {
 }
 
 void RawConnection::shut_down() {
+    shut_ = true;
     if (fd_ >= 0) ::shutdown(fd_, SHUT_RDWR);
 }
 

@@ -1,17 +1,25 @@
 // Bare connections for ddsimp-load's hostile mode: sockets an attacker opens and writes by hand
 // (frames, parts of frames, nothing at all), and a kept-alive HTTP connection for /metrics.
-// Plain POSIX sockets: hundreds of them are opened, each costs one descriptor.
+// Plain POSIX sockets: hundreds of them are opened, each costs one descriptor. Against a server
+// with TLS (use_tls), each speaks TLS from its first read or write: one never used stays an
+// unfinished handshake, as a silent socket on a TLS port is.
 #pragma once
 
 #include "ddsimp/protocol/frame.h"
 
+#include <atomic>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 
 namespace ddsimp::load {
+
+// Every RawConnection made after this speaks TLS (any certificate accepted: the bench's own).
+void use_tls(bool on);
+bool tls_in_use();
 
 // One TCP connection to host:port, from the local address `from` (any of 127.0.0.0/8 stands for
 // another machine) when it is not empty. Errors are not thrown: an attacker's socket that the
@@ -37,8 +45,17 @@ public:
     void shut_down();
     // Hello with `client_name`, and Auth when the server asks for a token: true once in.
     bool handshake(const std::string& client_name, const std::string& token);
+    // TLS: sends the ClientHello and nothing more, leaving the handshake unfinished; false
+    // without TLS or once the connection is gone.
+    bool start_tls_handshake_only();
 
 private:
+    // The connection's bytes, through TLS when in use: -1 once it is gone.
+    ssize_t read_some(char* buffer, size_t size);
+    bool write_all(const char* data, size_t size);
+    struct Tls;
+    std::unique_ptr<Tls> tls_;
+    std::atomic<bool> shut_{false};
     int fd_ = -1;
     protocol::FrameDecoder decoder_{size_t(64) << 20};
 };

@@ -44,6 +44,7 @@ using Clock = std::chrono::steady_clock;
 struct Settings {
     std::string server = "127.0.0.1:7420";
     std::string token;
+    bool tls = false;    // connect with TLS, any certificate accepted (a bench's own)
     std::string surface; // uploaded once as the main surface; empty: the server's first listed
     int clients = 8;
     int requests = 50; // per client
@@ -136,6 +137,8 @@ ConnectOptions connect_options(const Settings& s, int client) {
     ConnectOptions o;
     parse_server_address(s.server, o);
     o.token = s.token;
+    o.tls = s.tls;
+    o.tls_insecure = s.tls;
     o.client_name = "ddsimp-load " + std::to_string(client);
     o.timeout = std::chrono::minutes(5);
     return o;
@@ -234,6 +237,9 @@ int main(int argc, char** argv) {
     CLI::App app{"ddsimp-load: N clients x M operations against a running ddsimp-server"};
     app.add_option("--server", s.server, "HOST:PORT of the server")->capture_default_str();
     app.add_option("--token", s.token, "the server's token")->envname("DDSIMP_TOKEN");
+    app.add_flag("--tls", s.tls,
+                 "connect with TLS, accepting any certificate (a test server's own); --hostile: "
+                 "every attacker too, and some stop halfway through their TLS handshake");
     app.add_option("--surface", s.surface,
                    "main surface file, uploaded once (default: the server's first surface)")
         ->check(CLI::ExistingFile);
@@ -280,6 +286,7 @@ int main(int argc, char** argv) {
             h.port = o.port;
             h.http_port = uint16_t(s.http_port);
             h.token = s.token;
+            h.tls = s.tls;
             h.surface = s.surface;
             h.server_pid = s.server_pid;
             h.alpha = s.alpha;

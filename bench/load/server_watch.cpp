@@ -61,27 +61,6 @@ MemoryFlags memory_flags_of(int pid) {
     return f;
 }
 
-double MemoryBound::total() const {
-    double sum = 0;
-    for (const auto& [name, bytes] : parts) sum += bytes;
-    return sum;
-}
-
-MemoryBound documented_bound(const MemoryFlags& f, int clients, double raw_bytes,
-                             double triangles) {
-    constexpr double MiB = 1 << 20, KiB = 1 << 10;
-    const double T = f.threads, C = clients;
-    MemoryBound b;
-    b.parts["S + (T+1) x S_raw (stored surfaces)"] = f.surfaces_mb * MiB + (T + 1) * raw_bytes;
-    b.parts["C x (F + Q + 64 KiB) (connections)"] =
-        C * (f.max_frame_bytes + f.max_queue_mb * MiB + 64 * KiB);
-    b.parts["U + T x 2 x S_raw (uploads)"] = f.max_upload_mb * MiB + T * 2 * raw_bytes;
-    b.parts["M + T x 250 B x N (results)"] = f.cache_mb * MiB + T * 250 * triangles;
-    b.parts["C x 16 x 1 KiB (request jobs)"] = C * 16 * KiB;
-    b.parts["K (remembered keys)"] = f.max_remembered_kb * KiB;
-    return b;
-}
-
 namespace {
 
 std::string escaped(const std::string& line) {

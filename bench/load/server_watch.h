@@ -1,6 +1,6 @@
 // What ddsimp-load's hostile mode measures of the server process on the same machine: its
-// resident memory (sampled, and the kernel's peak), the memory total docs/operations.md
-// documents for the flags it was started with, and whether every line of its log is one the
+// resident memory (sampled, and the kernel's peak), the limits it was started with, and whether
+// every line of its log is one the
 // logger wrote.
 #pragma once
 
@@ -40,15 +40,6 @@ struct MemoryFlags {
     int max_clients = 256, threads = 2;
 };
 MemoryFlags memory_flags_of(int pid);
-
-// docs/operations.md#memory: what the server may hold beyond its size at rest, for `flags`,
-// the largest surface in use (`raw_bytes`, `triangles`) and `clients` connections at once.
-struct MemoryBound {
-    std::map<std::string, double> parts; // bytes, by the formula's terms
-    double total() const;
-};
-MemoryBound documented_bound(const MemoryFlags& flags, int clients, double raw_bytes,
-                             double triangles);
 
 // Lines of the server's log that the logger did not write as one event: lines that are not
 // "DATE TIME LEVEL printable-ASCII" (text) or one JSON object with time, level and message
