@@ -106,7 +106,7 @@ TEST(ClientFakePeer, HelloOffersCapabilitiesAndOnlyAgreedOnesAreUsed) {
     EXPECT_EQ(
         std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
         (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys",
-                                  "previews"}));
+                                  "previews", "surface-delete"}));
 }
 
 TEST(ClientFakePeer, TokenIsSentWhenAskedAndARefusalCarriesTheServersMessage) {

@@ -217,14 +217,14 @@ TEST(Faults, AFullDataDirectoryIsAClearErrorAndTheServerGoesOn) {
 }
 
 // Uploads over the limits are refused on their UploadBegin, before a byte is allocated for them:
-// too many triangles, a blob larger than the upload budget (here 64 fields of 256 components on
+// too many triangles, a blob larger than the largest surface (here 64 fields of 256 components on
 // a surface within the triangle limit: 3.9 TB), too many fields, and a second upload that would
 // overrun the budget while the first is in progress.
 TEST(Faults, SurfacesOverTheLimitsAreRefusedBeforeTheyAreAllocated) {
     constexpr size_t kTriangles = 20'000'000, kBudgetMiB = 64;
     ServerProcess server(temp_dir("over-limit"),
                          {"--max-surface-triangles", std::to_string(kTriangles), "--max-upload-mb",
-                          std::to_string(kBudgetMiB)});
+                          std::to_string(kBudgetMiB), "--max-surface-mb", "48"});
     WellBehavedClient good(server.port);
     const size_t baseline = server.status_bytes("VmHWM");
     RawClient c(server.port);
@@ -258,7 +258,8 @@ TEST(Faults, SurfacesOverTheLimitsAreRefusedBeforeTheyAreAllocated) {
         << e.message();
     e = refusal(begin(2, 3 * kTriangles, kTriangles, 64, 256));
     EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED);
-    EXPECT_NE(e.message().find("do not fit in the server's 64 MiB for uploads"), std::string::npos)
+    EXPECT_NE(e.message().find("over the server's largest surface of 48 MiB (--max-surface-mb)"),
+              std::string::npos)
         << e.message();
     e = refusal(begin(3, 100, 100, 65, 1));
     EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED);
@@ -272,7 +273,10 @@ TEST(Faults, SurfacesOverTheLimitsAreRefusedBeforeTheyAreAllocated) {
     other.send(begin(5, vertices, triangles, 0, 1));
     e = next_error(other);
     EXPECT_EQ(e.code(), v1::Error::RESOURCE_EXHAUSTED);
-    EXPECT_NE(e.message().find("try again later"), std::string::npos) << e.message();
+    EXPECT_NE(e.message().find("do not fit in the server's 64 MiB for uploads in progress; try "
+                               "again later"),
+              std::string::npos)
+        << e.message();
     EXPECT_EQ(metric(server.http_port, "ddsimp_upload_bytes"), double(24 * vertices));
     good.check_level();
     EXPECT_TRUE(server.running());
