@@ -136,16 +136,20 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
 
     if (!placed) place(h, plan);
     // No remaining triangle may flip, fold or turn its normal by more than the limit. The same
-    // walk finds how close the new triangles come to each end (see retraction_scale).
+    // walk finds how close the new triangles come to each end (see retraction_scale) and how far
+    // the new point lies off the planes of the triangles it replaces (see star_error).
     const Vec3 ref = ref_of(a, b);
     const double retraction = retraction_scale();
     const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
-    double near_a = INFINITY, near_b = INFINITY;
+    double near_a = INFINITY, near_b = INFINITY, star = 0;
     bool ok = true;
     auto check_star = [&](uint32_t v) {
         mesh_.for_each_outgoing(v, [&](uint32_t g) {
             const uint32_t t = g / 3;
-            if (!ok || t == h / 3 || (ht != kNone && t == ht / 3)) return;
+            const bool removed = t == h / 3 || (ht != kNone && t == ht / 3);
+            if (!ok || (removed && v != a)) return; // the removed ones once, from a's star
+            if (retraction > 0) star += star_error(g, plan.point);
+            if (removed) return;
             if (!keeps_facing(g, plan.point, ref)) {
                 ok = false, plan.refused_at = g;
             } else if (retraction > 0) {
@@ -163,7 +167,27 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
     check_star(b);
     // Not priced, or no other triangle left (a closed tetrahedron's last collapse): nothing.
     plan.retraction = std::isinf(near_a) ? 0 : retraction * (near_a + near_b);
+    if (retraction > 0) {
+        const double inv2 = quadrics_.inv_diagonal * quadrics_.inv_diagonal;
+        plan.retraction += geometry_weight() * star * inv2 * inv2;
+    }
     return ok;
+}
+
+// The accumulated quadrics measure a new point against the input triangles its two ends stand
+// for. Where those are few and small (the corner of a rim, the tip of a crease, once coarsened)
+// they leave a direction almost free, and a collapse can pull the corner far along it although the
+// triangles around it now are large and move with it. This measures what the error quadrics
+// measure, area x squared distance to the plane (raw units), against the present triangle g / 3
+// instead of the input's: for the planned collapses, what the surface as it is would lose.
+double Simplifier::star_error(uint32_t g, const Vec3& p) const {
+    const Vec3 pv = mesh_.point(mesh_.origin[g]);
+    const Vec3 n =
+        cross(sub(mesh_.point(mesh_.dest(g)), pv), sub(mesh_.point(mesh_.origin[prev(g)]), pv));
+    const double twice_area = norm(n);
+    if (!(twice_area > 0)) return 0;
+    const double d = dot(n, sub(p, pv)); // twice_area x the distance to the plane
+    return d * d / (2 * twice_area);
 }
 
 // Triangle g / 3 of the star of origin[g], with origin[g] moved to p: it must not degenerate,

@@ -41,9 +41,11 @@ private:
     struct CollapsePlan {
         uint32_t halfedge;
         detail::Vec3 point;
-        double along;        // position of `point` along the edge, for the data
-        double error;        // Terms::ErrorQuadrics: the error of both ends at `point`
-        double retraction;   // Terms::ErrorQuadrics: what `error` misses (retraction_scale)
+        double along; // position of `point` along the edge, for the data
+        double error; // Terms::ErrorQuadrics: the error of both ends at `point`
+        // Terms::ErrorQuadrics: what `error` misses: the retraction (retraction_scale) and the
+        // error against the present triangles (star_error).
+        double retraction;
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
     // Where a re-triangulation passes the removed vertex: the corners of the new triangle there
@@ -147,6 +149,9 @@ private:
     // where the tip was. So a plan also prices the distance from the vertex to the new
     // triangles, as if it stood for an average vertex's area.
     double retraction_scale() const;
+    // The error quadrics' geometric error of point p against the present triangle g / 3 (raw
+    // units: area x squared distance to its plane).
+    double star_error(uint32_t g, const detail::Vec3& p) const;
 
     // edge_collapse.cpp
     // a = origin of h, b = its destination (the callers have them).
