@@ -167,8 +167,11 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
     }
     c->begin_storing();
     const uint64_t upload_id = begin.upload_id(), upload_bytes = begin.total_bytes();
-    const bool queued = compute(c->id(), [this, c, scope, owner, begin = std::move(begin),
-                                          bytes = std::move(bytes)] {
+    // The job holds its client weakly: a Connection is let go on the network thread only.
+    const uint64_t client = c->id();
+    const bool queued = compute(client, [this, weak = std::weak_ptr<Connection>(c), client, scope,
+                                         owner, begin = std::move(begin),
+                                         bytes = std::move(bytes)] {
         const uint64_t id = begin.upload_id();
         v1::UploadResult result;
         v1::Error error;
@@ -196,7 +199,7 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             result.set_vertices(added.info.vertices);
             result.set_already_stored(added.already_stored);
             result.set_repairs(describe_repairs(repairs));
-            spdlog::info("client {} uploaded \"{}\" ({} triangles) as {}{}", c->id(),
+            spdlog::info("client {} uploaded \"{}\" ({} triangles) as {}{}", client,
                          loggable(begin.name()), added.info.triangles, added.info.id,
                          added.already_stored ? " (already stored)" : "");
         } catch (const OverQuota& e) {
@@ -214,26 +217,30 @@ void Service::upload(std::shared_ptr<Connection> c, v1::UploadBegin begin, std::
             error.set_message("upload " + std::to_string(id) +
                               ": the server cannot store it: " + e.what());
         } catch (const std::exception& e) { // e.g. out of memory: this upload fails, not the server
-            spdlog::error("upload {} of client {} failed: {}", id, c->id(),
-                          loggable(e.what(), 300));
+            spdlog::error("upload {} of client {} failed: {}", id, client, loggable(e.what(), 300));
             error.set_code(v1::Error::INTERNAL);
             error.set_message("upload " + std::to_string(id) + ": the server failed: " + e.what());
         }
         error.set_request_id(id);
-        asio::post(io_,
-                   [this, c, begin, owner, result = std::move(result), error = std::move(error)] {
-                       c->end_storing();
-                       release_upload(owner, begin.total_bytes());
-                       if (error.code() != v1::Error::CODE_UNSPECIFIED) return c->send(error);
-                       c->send(result);
-                       if (!result.already_stored()) speculate(result.surface());
-                       if (!begin.session().empty()) {
-                           v1::SetSessionState change;
-                           change.set_name(begin.session());
-                           change.mutable_view()->set_surface(result.surface());
-                           set_state(c, change);
-                       }
-                   });
+        asio::post(
+            io_, [this, weak, begin, owner, result = std::move(result), error = std::move(error)] {
+                release_upload(owner, begin.total_bytes());
+                const std::shared_ptr<Connection> c = weak.lock();
+                if (c) c->end_storing();
+                if (error.code() != v1::Error::CODE_UNSPECIFIED) {
+                    if (c) c->send(error);
+                    return;
+                }
+                if (!result.already_stored()) speculate(result.surface());
+                if (!c) return;
+                c->send(result);
+                if (!begin.session().empty()) {
+                    v1::SetSessionState change;
+                    change.set_name(begin.session());
+                    change.mutable_view()->set_surface(result.surface());
+                    set_state(c, change);
+                }
+            });
     });
     if (!queued) {
         c->end_storing();
@@ -264,8 +271,17 @@ void Service::delete_surface(std::shared_ptr<Connection> c, const v1::DeleteSurf
         return c->send_error(v1::Error::NOT_FOUND, "no surface of that id", id);
     // A server without per-user tokens is one user: every client's upload is the same user's.
     const bool one_user = config_.tokens_file.empty();
-    const auto done = [this, c, id, surface](SurfaceStore::Removal outcome, std::string failure) {
+    // Held by the job: the client weakly, so that a Connection is let go on the network thread.
+    const auto done = [this, weak = std::weak_ptr<Connection>(c), id,
+                       surface](SurfaceStore::Removal outcome, std::string failure) {
         using R = SurfaceStore::Removal;
+        const std::shared_ptr<Connection> c = weak.lock();
+        if (outcome == R::Removed) {
+            known_results_.forget_surface(surface);
+            metrics_.remembered_results = int64_t(known_results_.size());
+            metrics_.remembered_bytes = int64_t(known_results_.bytes());
+        }
+        if (!c) return;
         if (!failure.empty())
             return c->send_error(v1::Error::UNAVAILABLE,
                                  "surface " + surface + " cannot be deleted: " + failure, id);
@@ -284,11 +300,6 @@ void Service::delete_surface(std::shared_ptr<Connection> c, const v1::DeleteSurf
         case R::Released:
         case R::Removed:
             break;
-        }
-        if (outcome == R::Removed) {
-            known_results_.forget_surface(surface);
-            metrics_.remembered_results = int64_t(known_results_.size());
-            metrics_.remembered_bytes = int64_t(known_results_.bytes());
         }
         spdlog::info("client {} deleted surface {}{}", c->id(), surface,
                      outcome == R::Removed ? "" : " (another token keeps it)");
