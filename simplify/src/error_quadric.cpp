@@ -22,7 +22,7 @@ void add_plane(double* q, const Vec3& n, double e, double w) {
 }
 
 void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry,
-                          double data, size_t capacity) {
+                          double data, size_t capacity, Parallel& parallel) {
     // Scales: the bounding box of the live vertices, each counted component's range.
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     const size_t m_all = data > 0 ? gradient.components.size() : 0;
@@ -58,57 +58,75 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     auto datum = [&](uint32_t v, size_t j) {
         return (double(mesh.data_of(v)[offset[j]]) - low[j]) * inv_range[j];
     };
-    std::vector<double> face(size);
     const size_t halfedges = mesh.origin.size();
-    for (uint32_t t = 0; 3 * t < halfedges; ++t) {
-        const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1], mesh.origin[3 * t + 2]};
-        if (v[0] == kNone) continue;
-        const Vec3 x0 = position(v[0]), e1 = sub(position(v[1]), x0), e2 = sub(position(v[2]), x0);
-        const Vec3 normal = cross(e1, e2);
-        const double nn = dot(normal, normal);
-        if (!(nn > 0)) continue; // no plane, no gradient
-        const double area = 0.5 * std::sqrt(nn);
-        this->area += area;
-        // The terms that are summed into; the per-component G and D below are assigned.
-        std::fill_n(face.begin(), kSharedTerms, 0.0);
-        const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
-        if (geometry > 0) add_plane(face.data(), unit, -dot(unit, x0), geometry * area);
-        const double w = data * area;
-        if (components > 0) face[10] = w;
-        // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
-        const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
-                   across2 = scale(cross(normal, e1), 1 / nn);
-        for (size_t j = 0; j < components; ++j) {
-            const double s0 = datum(v[0], j);
-            const Vec3 g = detail::add(scale(across1, datum(v[1], j) - s0),
-                                       scale(across2, datum(v[2], j) - s0));
-            const double d = s0 - dot(g, x0);
-            double* q = face.data();
-            q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];
-            q[3] += w * g[1] * g[1], q[4] += w * g[1] * g[2], q[5] += w * g[2] * g[2];
-            for (int k = 0; k < 3; ++k)
-                q[6 + k] += w * d * g[k], q[kSharedTerms + 4 * j + k] = w * g[k];
-            q[9] += w * d * d;
-            q[kSharedTerms + 3 + 4 * j] = w * d;
+    // Each triangle's terms go to its three corners: one piece of the vertices per thread, each
+    // taking the triangles in order, so that a vertex sums its terms in triangle order.
+    parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi) {
+        auto mine = [&](uint32_t v) { return v >= lo && v < hi; };
+        std::vector<double> face(size);
+        for (uint32_t t = 0; 3 * t < halfedges; ++t) {
+            const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1],
+                                   mesh.origin[3 * t + 2]};
+            if (v[0] == kNone || !(mine(v[0]) || mine(v[1]) || mine(v[2]))) continue;
+            const Vec3 x0 = position(v[0]), e1 = sub(position(v[1]), x0),
+                       e2 = sub(position(v[2]), x0);
+            const Vec3 normal = cross(e1, e2);
+            const double nn = dot(normal, normal);
+            if (!(nn > 0)) continue; // no plane, no gradient
+            const double area = 0.5 * std::sqrt(nn);
+            // The terms that are summed into; the per-component G and D below are assigned.
+            std::fill_n(face.begin(), kSharedTerms, 0.0);
+            const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
+            if (geometry > 0) add_plane(face.data(), unit, -dot(unit, x0), geometry * area);
+            const double w = data * area;
+            if (components > 0) face[10] = w;
+            // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
+            const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
+                       across2 = scale(cross(normal, e1), 1 / nn);
+            for (size_t j = 0; j < components; ++j) {
+                const double s0 = datum(v[0], j);
+                const Vec3 g = detail::add(scale(across1, datum(v[1], j) - s0),
+                                           scale(across2, datum(v[2], j) - s0));
+                const double d = s0 - dot(g, x0);
+                double* q = face.data();
+                q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];
+                q[3] += w * g[1] * g[1], q[4] += w * g[1] * g[2], q[5] += w * g[2] * g[2];
+                for (int k = 0; k < 3; ++k)
+                    q[6 + k] += w * d * g[k], q[kSharedTerms + 4 * j + k] = w * g[k];
+                q[9] += w * d * d;
+                q[kSharedTerms + 3 + 4 * j] = w * d;
+            }
+            for (uint32_t c : v)
+                if (mine(c))
+                    for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
         }
-        for (uint32_t c : v)
-            for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
-    }
-    if (geometry == 0) return;
-    // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like a
-    // triangle on the edge, so that sliding a boundary vertex off its line costs what it does.
-    for (uint32_t h = 0; h < halfedges; ++h) {
-        if (mesh.origin[h] == kNone || mesh.twin[h] != kNone) continue;
-        const uint32_t a = mesh.origin[h], b = mesh.dest(h);
-        const Vec3 xa = position(a), edge = sub(position(b), xa);
-        const Vec3 normal = cross(edge, mesh.triangle_normal(h / 3));
-        const double nn = norm(normal);
-        if (!(nn > 0)) continue;
-        const Vec3 unit = scale(normal, 1 / nn);
-        std::fill(face.begin(), face.end(), 0.0);
-        add_plane(face.data(), unit, -dot(unit, xa), geometry * dot(edge, edge));
-        for (uint32_t c : {a, b})
-            for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
+        if (geometry == 0) return;
+        // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like
+        // a triangle on the edge, so that sliding a boundary vertex off its line costs what it
+        // does.
+        for (uint32_t h = 0; h < halfedges; ++h) {
+            if (mesh.origin[h] == kNone || mesh.twin[h] != kNone) continue;
+            const uint32_t a = mesh.origin[h], b = mesh.dest(h);
+            if (!mine(a) && !mine(b)) continue;
+            const Vec3 xa = position(a), edge = sub(position(b), xa);
+            const Vec3 normal = cross(edge, mesh.triangle_normal(h / 3));
+            const double nn = norm(normal);
+            if (!(nn > 0)) continue;
+            const Vec3 unit = scale(normal, 1 / nn);
+            std::fill(face.begin(), face.end(), 0.0);
+            add_plane(face.data(), unit, -dot(unit, xa), geometry * dot(edge, edge));
+            for (uint32_t c : {a, b})
+                if (mine(c))
+                    for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
+        }
+    });
+    // The surface's area, summed in triangle order.
+    for (uint32_t t = 0; 3 * t < halfedges; ++t) {
+        if (mesh.origin[3 * t] == kNone) continue;
+        const Vec3 x0 = position(mesh.origin[3 * t]);
+        const double nn = norm(cross(sub(position(mesh.origin[3 * t + 1]), x0),
+                                     sub(position(mesh.origin[3 * t + 2]), x0)));
+        if (nn > 0) area += 0.5 * nn;
     }
 }
 

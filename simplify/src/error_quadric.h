@@ -59,7 +59,7 @@ struct ErrorQuadrics {
     static constexpr size_t kSharedTerms = 11;
     size_t components = 0;      // m
     size_t size = kSharedTerms; // numbers per vertex
-    std::vector<double> values;
+    Array<double> values;
     // The input surface's area (normalised units: diagonals squared).
     double area = 0;
     // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
@@ -74,9 +74,10 @@ struct ErrorQuadrics {
     // The quadrics of every live vertex of `mesh` (slots up to `capacity`), from its input
     // triangles and, for the geometry, planes through its boundary edges perpendicular to the
     // surface, so that a boundary keeps its shape. `gradient` says which data components count;
-    // the geometric error weighs `geometry`, the data error `data` (none: no data terms).
+    // the geometric error weighs `geometry`, the data error `data` (none: no data terms). The
+    // same bits on any number of threads.
     void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry, double data,
-               size_t capacity);
+               size_t capacity, Parallel& parallel);
 
     double* of(uint32_t v) { return &values[size_t(v) * size]; }
     const double* of(uint32_t v) const { return &values[size_t(v) * size]; }

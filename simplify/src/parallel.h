@@ -55,6 +55,13 @@ public:
             grain);
     }
 
+    // f(begin, end) over [0, n) in one piece per thread: for a gather that scans all of its input
+    // and keeps what falls in its piece, so that each index sums its terms in input order.
+    template <class F> void for_pieces(size_t n, F&& f) {
+        const size_t pieces = std::min(n, size_t(threads_));
+        for_each(pieces, [&](size_t i) { f(i * n / pieces, (i + 1) * n / pieces); }, 1);
+    }
+
 private:
     int threads_;
     oneapi::tbb::task_arena arena_;

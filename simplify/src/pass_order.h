@@ -53,7 +53,7 @@ inline uint32_t digit(const Candidate& c, int d) {
 // Sorts `items`, which come in id order, by key, then by id: stable counting passes over the
 // key's 12-bit digits, lowest first (a digit on which all items agree is skipped); a comparison
 // sort for a few items. `scratch` is reused between calls.
-inline void sort_candidates(std::vector<Candidate>& items, std::vector<Candidate>& scratch) {
+template <class Vector> void sort_candidates(Vector& items, Vector& scratch) {
     const size_t n = items.size();
     if (n < kDigitValues) {
         std::sort(items.begin(), items.end(), [](const Candidate& a, const Candidate& b) {

@@ -62,7 +62,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
     }
     mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
-    mesh_.build(surface, capacity, limits_from(options), id_, rank_);  // in locality order
+    mesh_.build(surface, capacity, limits_from(options), id_, rank_, &parallel_); // locality order
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
     // Edge collapse's ids are half-edges, vertex removal's vertices.
     const size_t ids = collapse ? surface.triangles.size() : capacity;
@@ -86,7 +86,8 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     least_error_ =
         options.strategy == Strategy::EdgeCollapse && options.placement == Placement::LeastError;
     if (quadric_terms_ || least_error_)
-        quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity);
+        quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity,
+                        parallel_);
     if (!(collapse && quadric_terms_)) weight_.assign(capacity, 0);
     // The paper's terms, then their means over the vertices that can take part.
     std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);

@@ -215,7 +215,7 @@ private:
     // estimate that step_removal replaces by its planned re-triangulation's error when that is
     // heavier than it and than the pass's share (until v's star changes); unused by edge
     // collapse with the error quadrics (empty).
-    std::vector<float> weight_;
+    detail::Array<float> weight_;
     // Terms::ErrorQuadrics, or Placement::LeastError: the accumulated error per vertex slot.
     detail::ErrorQuadrics quadrics_;
     bool quadric_terms_ = false, least_error_ = false;
@@ -237,14 +237,14 @@ private:
     };
     // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
     // so they are in id order too.
-    std::vector<Member> pool_;
+    detail::Array<Member> pool_;
     // rank_candidates' scratch: what each pool member is this pass.
     static constexpr uint8_t kDeadMember = 0, kLiveMember = 1, kCandidate = 2;
-    std::vector<uint8_t> status_;
+    detail::Array<uint8_t> status_;
     std::vector<uint32_t> born_;
-    std::vector<uint8_t> listed_;
+    detail::Array<uint8_t> listed_;
     // The pass's lightest, sorted, and the sort's scratch space.
-    std::vector<detail::Candidate> order_, scratch_;
+    detail::Array<detail::Candidate> order_, scratch_;
     // busy_[v]: the stamp of what last reserved v and, for a selection round's stamp, the index
     // in selected_ of the candidate that holds it. Each pass has a stamp for its taken
     // operations' neighbourhoods and each selection round one for what it selected (stamp_
@@ -252,7 +252,7 @@ private:
     struct Hold {
         uint32_t stamp, holder;
     };
-    std::vector<Hold> busy_;
+    detail::Array<Hold> busy_;
     uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
     // ascending), those it blocked with the index in selected_ of one that blocked each (see
@@ -260,8 +260,8 @@ private:
     // ones in selection order (what a taken one's operation needs when applied).
     std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
-    std::vector<CollapsePlan> plans_;
-    std::vector<Removal> removals_;
+    detail::Array<CollapsePlan> plans_;
+    detail::Array<Removal> removals_;
     // The operations a pass takes: (rank in order_, index into plans_ or removals_), sorted by
     // rank; then the new vertices and where each removal's writes go in the record.
     std::vector<std::pair<uint32_t, uint32_t>> taken_;
@@ -270,22 +270,22 @@ private:
     bool cancelled_ = false; // Options::progress asked to stop
     // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
     // changed; a pool member's key is computed again when an end's rekey_ is newer than it.
-    std::vector<uint32_t> rekey_;
+    detail::Array<uint32_t> rekey_;
     uint32_t pass_ = 0;
     // Refusals are remembered: fail_[id] is the pass in which the plan refused the edge (per
     // half-edge) or vertex; epoch_[v] is the pass in which v's star last changed. A refusal
     // stands while no vertex the checks read has changed since (in that pass or later): the ends
     // and apexes of an edge, the vertex itself for a removal.
-    std::vector<uint32_t> fail_, epoch_;
+    detail::Array<uint32_t> fail_, epoch_;
     // Vertex removal: the length of each vertex's shortest edge (its key's tie-break).
-    std::vector<float> shortest_;
+    detail::Array<float> shortest_;
     // Where the triangle that made the last refusal of an edge is (kNoFold: another check
     // refused it), for plan_collapse to test it first: bit 6 says in which end's star (set: the
     // half-edge's destination), bits 0-5 how many steps counter-clockwise from that end's out[]
     // its outgoing half-edge is. One byte, not a half-edge id: it is only a hint, so a star that
     // changed since costs time, not results.
     static constexpr uint8_t kNoFold = 0xff;
-    std::vector<uint8_t> fail_at_;
+    detail::Array<uint8_t> fail_at_;
     uint8_t fold_hint(uint32_t h, uint32_t g) const;         // g: the folding half-edge, or kNone
     uint32_t fold_from_hint(uint32_t h, uint8_t hint) const; // kNone if it names none
     // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
@@ -302,7 +302,7 @@ private:
     // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
     // was last computed, so it waits only once: the retraction's price grows a little as the
     // surface coarsens, and a plan made again later would be heavier again.
-    std::vector<uint8_t> raised_;
+    detail::Array<uint8_t> raised_;
     size_t vertices_in_use_ = 0; // by the input's triangles
     // The validated input: it must outlive run(), which copies its vertices into the record.
     const Surface& input_;

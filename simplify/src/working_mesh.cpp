@@ -8,7 +8,10 @@
 namespace ddsimp::detail {
 
 void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
-                        const std::vector<uint32_t>& order, const std::vector<uint32_t>& rank) {
+                        const std::vector<uint32_t>& order, const std::vector<uint32_t>& rank,
+                        Parallel* threads) {
+    Parallel one(1);
+    Parallel& parallel = threads ? *threads : one;
     limits = lim;
     vertex_count = s.vertex_count();
     stride = 0;
@@ -18,130 +21,141 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     record = 6 + stride;
     records.assign(record * capacity, 0.0f);
     const bool reorder = !order.empty();
-    for (uint32_t v = 0; v < vertex_count; ++v) {
+    parallel.for_each(vertex_count, [&](size_t v) {
         const size_t u = reorder ? order[v] : v;
-        std::copy_n(&s.positions[3 * u], 3, position_of(v));
-        float* d = data_of(v);
+        std::copy_n(&s.positions[3 * u], 3, position_of(uint32_t(v)));
+        float* d = data_of(uint32_t(v));
         for (const Field& f : s.fields)
             for (int c = 0; c < f.components; ++c)
                 *d++ = f.values[u * size_t(f.components) + size_t(c)];
-    }
+    });
 
     const size_t halfedges = s.triangles.size();
     if (reorder) {
         origin.resize(halfedges);
-        for (size_t h = 0; h < halfedges; ++h) origin[h] = rank[s.triangles[h]];
+        parallel.for_each(halfedges, [&](size_t h) { origin[h] = rank[s.triangles[h]]; });
     } else {
         origin.assign(s.triangles.begin(), s.triangles.end());
     }
     twin.assign(halfedges, kNone);
     line.assign(halfedges, 0);
     angle.assign(track_angles ? halfedges : 0, 0.0f);
-    for (uint32_t t = 0; t < halfedges / 3; ++t) update_angles(t);
+    parallel.for_each(halfedges / 3, [&](size_t t) { update_angles(uint32_t(t)); });
     live_triangles = s.triangle_count();
     kind.assign(capacity, VertexKind::Dead);
     valence.assign(capacity, 0);
     out.assign(capacity, kNone);
 
     // Outgoing half-edges grouped by origin (counting sort), each with its destination, to find
-    // twins without hashing.
+    // twins without hashing. Each vertex's group is in half-edge order, so a sum over it adds in
+    // the order of a loop over the triangles: gathering per vertex on the threads gives the bits
+    // of that loop.
     std::vector<uint32_t> first(vertex_count + 1, 0);
     for (uint32_t v : origin) ++first[v + 1];
     std::partial_sum(first.begin(), first.end(), first.begin());
-    std::vector<uint32_t> outgoing(halfedges), to(halfedges), fill(first.begin(), first.end() - 1);
+    Array<uint32_t> outgoing(halfedges), to(halfedges);
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
     for (uint32_t h = 0; h < halfedges; h += 3) // a triangle's three half-edges
         for (uint32_t c = 0; c < 3; ++c) {
             const uint32_t k = fill[origin[h + c]]++;
             outgoing[k] = h + c, to[k] = origin[h + (c == 2 ? 0 : c + 1)];
         }
+    std::vector<uint32_t>().swap(fill);
 
     for (uint32_t v = 0; v < vertex_count; ++v)
         if (first[v + 1] > first[v]) kind[v] = VertexKind::Free;
 
-    for (uint32_t h = 0; h < halfedges; ++h) {
-        if (twin[h] != kNone) continue; // its twin found it: the same counts from the other side
-        const uint32_t a = origin[h], b = dest(h);
+    // A half-edge's twin is the one half-edge back along its edge, if the edge has exactly one
+    // each way; otherwise it is a line, and an edge with more than two half-edges makes its ends
+    // Complex (marked after the loop, as several edges may share an end).
+    constexpr uint8_t kCrowded = 2; // in line[h] until the ends are marked
+    parallel.for_each(halfedges, [&](size_t h) {
+        const uint32_t a = origin[h], b = dest(uint32_t(h));
         uint32_t same = 0, opposite = 0, candidate = kNone;
         for (uint32_t k = first[a]; k < first[a + 1]; ++k) same += to[k] == b;
         for (uint32_t k = first[b]; k < first[b + 1]; ++k)
             if (to[k] == a) ++opposite, candidate = outgoing[k];
-        if (same == 1 && opposite == 1) {
-            twin[h] = candidate, twin[candidate] = h;
-        } else {
-            line[h] = 1;
-            if (same + opposite > 1) kind[a] = kind[b] = VertexKind::Complex;
-        }
-    }
+        if (same == 1 && opposite == 1)
+            twin[h] = candidate;
+        else
+            line[h] = same + opposite > 1 ? 1 | kCrowded : 1;
+    });
+    for (uint32_t h = 0; h < halfedges; ++h)
+        if (line[h] & kCrowded) line[h] = 1, kind[origin[h]] = kind[dest(h)] = VertexKind::Complex;
 
     {
-        std::vector<double> sum(3 * vertex_count, 0.0);
-        for (uint32_t t = 0; t < live_triangles; ++t) {
-            const Vec3 n = triangle_normal(t);
-            for (int c = 0; c < 3; ++c)
-                for (int k = 0; k < 3; ++k) sum[3 * size_t(origin[3 * t + c]) + k] += n[k];
-        }
+        Array<double> sum(3 * vertex_count, 0.0);
+        parallel.for_each(vertex_count, [&](size_t v) {
+            for (uint32_t k = first[v]; k < first[v + 1]; ++k) {
+                const Vec3 n = triangle_normal(outgoing[k] / 3);
+                for (int i = 0; i < 3; ++i) sum[3 * v + i] += n[i];
+            }
+        });
         // Vertex normals of sampled surfaces (marching-cubes staircases, slivers) are noisy;
         // a few rounds of averaging with the neighbours give the surface's broad direction.
-        std::vector<double> smoothed(sum.size());
+        auto unit = [&](double* n) {
+            const double l = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            for (int k = 0; k < 3; ++k) n[k] = l > 0 ? n[k] / l : 0;
+        };
+        Array<double> smoothed(sum.size());
         for (int round = 0; round < kReferenceSmoothing; ++round) {
-            for (size_t v = 0; v < vertex_count; ++v) {
-                const double l =
-                    std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
-                              sum[3 * v + 2] * sum[3 * v + 2]);
-                for (int k = 0; k < 3; ++k) sum[3 * v + k] = l > 0 ? sum[3 * v + k] / l : 0;
-            }
-            smoothed = sum;
-            for (size_t h = 0; h < halfedges; h += 3) // each edge direction once per half-edge
-                for (size_t c = 0; c < 3; ++c) {
-                    double* to_origin = &smoothed[3 * size_t(origin[h + c])];
-                    const double* at_dest = &sum[3 * size_t(origin[h + (c == 2 ? 0 : c + 1)])];
-                    for (int k = 0; k < 3; ++k) to_origin[k] += at_dest[k];
-                }
+            parallel.for_each(vertex_count, [&](size_t v) { unit(&sum[3 * v]); });
+            parallel.for_each(vertex_count, [&](size_t v) { // each edge direction once per
+                double* n = &smoothed[3 * v];               // half-edge
+                for (int i = 0; i < 3; ++i) n[i] = sum[3 * v + i];
+                for (uint32_t k = first[v]; k < first[v + 1]; ++k)
+                    for (int i = 0; i < 3; ++i) n[i] += sum[3 * size_t(to[k]) + i];
+            });
             sum.swap(smoothed);
         }
-        for (size_t v = 0; v < vertex_count; ++v) {
+        parallel.for_each(vertex_count, [&](size_t v) {
             const double l = std::sqrt(sum[3 * v] * sum[3 * v] + sum[3 * v + 1] * sum[3 * v + 1] +
                                        sum[3 * v + 2] * sum[3 * v + 2]);
             if (l > 0)
                 for (int k = 0; k < 3; ++k)
                     reference_of(uint32_t(v))[k] = float(sum[3 * v + k] / l);
-        }
+        });
     }
 
     // Feature edges from the dihedral angle between twin triangles (none when the limit is
     // below every cosine: feature angle 180, the default), and folds of the input (see
-    // kFoldCos): their vertices are locked. Each edge once, its normals computed there rather
-    // than kept for every triangle (which would raise the peak memory).
+    // kFoldCos): their vertices are locked (after the loop, as several folds may share one).
+    // Each edge once, its normals computed there rather than kept for every triangle (which
+    // would raise the peak memory).
     auto unit_normal = [&](uint32_t t) {
         const Vec3 n = triangle_normal(t);
         const double len = norm(n);
         return len > 0 ? scale(n, 1.0 / len) : Vec3{0, 0, 0};
     };
-    for (uint32_t h = 0; h < halfedges; ++h) {
+    constexpr uint8_t kFold = 2; // in line[h] until its ends are locked
+    parallel.for_each(halfedges, [&](size_t h) {
         const uint32_t t = twin[h];
-        if (t == kNone || t < h) continue;
-        const Vec3 n0 = unit_normal(h / 3), n1 = unit_normal(t / 3);
+        if (t == kNone || t < h) return;
+        const Vec3 n0 = unit_normal(uint32_t(h / 3)), n1 = unit_normal(t / 3);
         if (dot(n0, n0) > 0 && dot(n1, n1) > 0 && dot(n0, n1) < limits.feature_cos)
             line[h] = line[t] = 1;
-        if (dot(n0, n1) < kFoldCos) {
-            if (locked.empty()) locked.assign(capacity, 0);
-            locked[origin[h]] = locked[dest(h)] = 1;
-        }
+        if (dot(n0, n1) < kFoldCos) line[h] |= kFold;
+    });
+    for (uint32_t h = 0; h < halfedges; ++h) {
+        if (!(line[h] & kFold)) continue;
+        line[h] &= ~kFold;
+        if (locked.empty()) locked.assign(capacity, 0);
+        locked[origin[h]] = locked[dest(h)] = 1;
     }
 
     // Each vertex's fan must cover all its triangles and have at most one boundary gap.
-    for (uint32_t v = 0; v < vertex_count; ++v) {
-        if (kind[v] == VertexKind::Dead) continue;
+    parallel.for_each(vertex_count, [&](size_t v) {
+        if (kind[v] == VertexKind::Dead) return;
         uint32_t open = 0, start = outgoing[first[v]];
         for (uint32_t k = first[v]; k < first[v + 1]; ++k)
             if (twin[outgoing[k]] == kNone) ++open, start = outgoing[k];
         out[v] = start;
-        if (kind[v] == VertexKind::Complex) continue;
+        if (kind[v] == VertexKind::Complex) return;
         size_t fan = 0;
-        for_each_outgoing(v, [&](uint32_t) { ++fan; });
+        for_each_outgoing(uint32_t(v), [&](uint32_t) { ++fan; });
         if (open > 1 || fan != first[v + 1] - first[v]) kind[v] = VertexKind::Complex;
-    }
-    for (uint32_t v = 0; v < vertex_count; ++v) classify(v);
+    });
+    parallel.for_each(vertex_count, [&](size_t v) { classify(uint32_t(v)); });
 }
 
 Vec3 WorkingMesh::triangle_normal(uint32_t t) const {

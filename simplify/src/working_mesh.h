@@ -6,6 +6,8 @@
 #pragma once
 
 #include "ddsimp/ddsimp.h"
+#include "huge_pages.h"
+#include "parallel.h"
 
 #include <algorithm>
 #include <array>
@@ -108,23 +110,23 @@ struct WorkingMesh {
     // reference_normal) and its data (`stride` values: every field's components, in field
     // order). One array rather than three, because an operation reads all three of the same few
     // vertices: one cache line per vertex instead of three.
-    std::vector<float> records;
+    Array<float> records;
     size_t stride = 0, record = 6;
     std::vector<std::pair<FieldKind, int>> fields; // each field's kind and components, in order
-    std::vector<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
-    std::vector<VertexKind> kind;
-    std::vector<uint16_t> valence; // number of neighbours (kept up to date by classify)
+    Array<uint32_t> out; // an outgoing half-edge; on a boundary the one without a twin
+    Array<VertexKind> kind;
+    Array<uint16_t> valence; // number of neighbours (kept up to date by classify)
     // Options::locked by vertex slot, and the vertices of the input's folds (see kFoldCos);
     // empty: none. classify makes a locked vertex a Corner, and a collapse into a locked vertex
     // passes the lock on to the slot of the new vertex.
-    std::vector<uint8_t> locked;
+    Array<uint8_t> locked;
     size_t vertex_count = 0; // vertices in use (ids below this)
 
     // Per half-edge.
-    std::vector<uint32_t> origin; // kNone for a retired slot
-    std::vector<uint32_t> twin;
-    std::vector<uint8_t> line; // boundary or feature edge
-    std::vector<float> angle;  // the triangle's angle at the half-edge's origin (see track_angles)
+    Array<uint32_t> origin; // kNone for a retired slot
+    Array<uint32_t> twin;
+    Array<uint8_t> line; // boundary or feature edge
+    Array<float> angle;  // the triangle's angle at the half-edge's origin (see track_angles)
 
     size_t live_triangles = 0;
     Limits limits;
@@ -136,8 +138,10 @@ struct WorkingMesh {
     // `capacity` is the number of vertex slots to reserve. With `order` and `rank` (each the
     // other's inverse) vertex v is the surface's vertex order[v] and a triangle's index i becomes
     // rank[i], read in place rather than from a reordered copy; empty: the surface's ids.
+    // Runs on `threads` (none: one thread); the same result for any number.
     void build(const Surface& surface, size_t capacity, const Limits& limits,
-               const std::vector<uint32_t>& order = {}, const std::vector<uint32_t>& rank = {});
+               const std::vector<uint32_t>& order = {}, const std::vector<uint32_t>& rank = {},
+               Parallel* threads = nullptr);
 
     float* position_of(uint32_t v) { return &records[size_t(v) * record]; }
     const float* position_of(uint32_t v) const { return &records[size_t(v) * record]; }
