@@ -1,6 +1,8 @@
 // Input checks: reject what has no obvious repair, drop degenerate and duplicate triangles.
 #include "validate.h"
 
+#include "huge_pages.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -68,9 +70,9 @@ bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairRepo
     const size_t count = s.triangle_count();
     // Each triangle's vertices sorted; triangles bucketed by their lowest vertex (counting sort,
     // in triangle order), so that a duplicate is found among the few earlier ones of its bucket.
-    std::vector<std::array<uint32_t, 3>> keys(count);
-    std::vector<uint8_t> keep(count, 1);
-    std::vector<uint32_t> first(s.vertex_count() + 1, 0);
+    detail::Array<std::array<uint32_t, 3>> keys(count);
+    detail::Array<uint8_t> keep(count, 1);
+    detail::Array<uint32_t> first(s.vertex_count() + 1, 0);
     for (uint32_t t = 0; t < count; ++t) {
         std::array<uint32_t, 3> k{s.triangles[3 * t], s.triangles[3 * t + 1],
                                   s.triangles[3 * t + 2]};
@@ -84,7 +86,7 @@ bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairRepo
         ++first[k[0] + 1];
     }
     for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
-    std::vector<uint32_t> bucket(first.back()), fill(first.begin(), first.end() - 1);
+    detail::Array<uint32_t> bucket(first.back()), fill(first.begin(), first.end() - 1);
     for (uint32_t t = 0; t < count; ++t)
         if (keep[t]) bucket[fill[keys[t][0]]++] = t;
     auto drop = [&](uint32_t t) { keep[t] = 0, ++report.duplicate_triangles_dropped; };
@@ -135,16 +137,16 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
         return std::pair{std::min(a, b), std::max(a, b)};
     };
     const uint32_t halfedges = uint32_t(triangles.size());
-    std::vector<uint32_t> first(nv + 1, 0);
+    detail::Array<uint32_t> first(nv + 1, 0);
     for (uint32_t h = 0; h < halfedges; ++h) ++first[ends(h).first + 1];
     for (size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
-    std::vector<uint64_t> group(halfedges); // higher vertex << 32 | half-edge
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    detail::Array<uint64_t> group(halfedges); // higher vertex << 32 | half-edge
+    detail::Array<uint32_t> fill(first.begin(), first.end() - 1);
     for (uint32_t h = 0; h < halfedges; ++h) {
         const auto [low, high] = ends(h);
         group[fill[low]++] = uint64_t(high) << 32 | h;
     }
-    std::vector<uint32_t> across(halfedges, kNone);
+    detail::Array<uint32_t> across(halfedges, kNone);
     for (size_t v = 0; v < nv; ++v) {
         const auto begin = group.begin() + first[v], end = group.begin() + first[v + 1];
         std::sort(begin, end); // by the higher vertex: each edge's half-edges together
@@ -213,7 +215,7 @@ bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired,
         for (size_t t = 0; t < flips.size(); ++t)
             if (flips[t] == 2) std::swap(repaired[3 * t + 1], repaired[3 * t + 2]);
     }
-    std::vector<uint8_t> used(surface.vertex_count(), 0);
+    detail::Array<uint8_t> used(surface.vertex_count(), 0);
     for (uint32_t v : dropped || report.triangles_flipped > 0 ? repaired : surface.triangles)
         used[v] = 1;
     report.unused_vertices = size_t(std::count(used.begin(), used.end(), 0));

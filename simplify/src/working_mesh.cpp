@@ -50,17 +50,17 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     // twins without hashing. Each vertex's group is in half-edge order, so a sum over it adds in
     // the order of a loop over the triangles: gathering per vertex on the threads gives the bits
     // of that loop.
-    std::vector<uint32_t> first(vertex_count + 1, 0);
+    Array<uint32_t> first(vertex_count + 1, 0);
     for (uint32_t v : origin) ++first[v + 1];
     std::partial_sum(first.begin(), first.end(), first.begin());
     Array<uint32_t> outgoing(halfedges), to(halfedges);
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    Array<uint32_t> fill(first.begin(), first.end() - 1);
     for (uint32_t h = 0; h < halfedges; h += 3) // a triangle's three half-edges
         for (uint32_t c = 0; c < 3; ++c) {
             const uint32_t k = fill[origin[h + c]]++;
             outgoing[k] = h + c, to[k] = origin[h + (c == 2 ? 0 : c + 1)];
         }
-    std::vector<uint32_t>().swap(fill);
+    Array<uint32_t>().swap(fill);
 
     for (uint32_t v = 0; v < vertex_count; ++v)
         if (first[v + 1] > first[v]) kind[v] = VertexKind::Free;
