@@ -61,7 +61,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     const size_t halfedges = mesh.origin.size();
     // Each triangle's terms go to its three corners: one piece of the vertices per thread, each
     // taking the triangles in order, so that a vertex sums its terms in triangle order.
-    parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi) {
+    parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi, size_t) {
         auto mine = [&](uint32_t v) { return v >= lo && v < hi; };
         std::vector<double> face(size);
         for (uint32_t t = 0; 3 * t < halfedges; ++t) {

@@ -7,6 +7,7 @@
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
+#include <oneapi/tbb/task_group.h>
 #include <oneapi/tbb/task_arena.h>
 
 #include <algorithm>
@@ -55,11 +56,38 @@ public:
             grain);
     }
 
-    // f(begin, end) over [0, n) in one piece per thread: for a gather that scans all of its input
-    // and keeps what falls in its piece, so that each index sums its terms in input order.
+    // produce() on the calling thread while every other thread runs consume(), then consume() on
+    // the calling thread too: a serial stage and the work it hands out, side by side. consume()
+    // returns once produce() is over and nothing is left for it.
+    template <class P, class C> void beside(P&& produce, C&& consume) {
+        if (threads_ <= 1) {
+            produce();
+            consume(true);
+            return;
+        }
+#if defined(__SANITIZE_THREAD__)
+        std::vector<std::thread> pool;
+        for (int i = 1; i < threads_; ++i) pool.emplace_back([&] { consume(false); });
+        produce();
+        consume(true);
+        for (std::thread& t : pool) t.join();
+        return;
+#endif
+        arena_.execute([&] {
+            oneapi::tbb::task_group others;
+            for (int i = 1; i < threads_; ++i) others.run([&] { consume(false); });
+            produce();
+            consume(true);
+            others.wait();
+        });
+    }
+    // f(begin, end, piece) over [0, n) in pieces(n) pieces, one per thread, numbered in order:
+    // for a gather that scans all of its input and keeps what falls in its piece, so that each
+    // index sums its terms in input order, or for lists that are joined in piece order.
+    size_t pieces(size_t n) const { return std::min(n, size_t(threads_)); }
     template <class F> void for_pieces(size_t n, F&& f) {
-        const size_t pieces = std::min(n, size_t(threads_));
-        for_each(pieces, [&](size_t i) { f(i * n / pieces, (i + 1) * n / pieces); }, 1);
+        const size_t count = pieces(n);
+        for_each(count, [&](size_t i) { f(i * n / count, (i + 1) * n / count, i); }, 1);
     }
 
 private:

@@ -40,6 +40,10 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
     // stage reading what the one before fetched.
     constexpr size_t kAhead = 8;
     auto id_at = [&](size_t j) { return pool_[order_[pending_[j]].id].id; };
+    struct Over { // the checks beside the walk learn that it is over, however it ends
+        Simplifier& s;
+        ~Over() { s.publish_selected(true); }
+    } over{*this};
     for (size_t j = 0; j < count; ++j) {
         if (j > 0 && j % kBlock == 0 && !checkpoint()) return false;
         if (j + 3 * kAhead < count) __builtin_prefetch(&pool_[order_[pending_[j + 3 * kAhead]].id]);
@@ -92,6 +96,7 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
             const uint32_t holder = uint32_t(selected_.size());
             for (size_t i = 0; i < n; ++i) busy_[near[i]] = {round_stamp, holder};
             selected_.push_back(rank);
+            publish_selected(false);
         } else if (blocker != kNone) {
             blocked_.push_back(rank);
             blocked_by_.push_back(blocker);

@@ -189,12 +189,24 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t ke
     }
 }
 
-void Simplifier::list_edges_of(uint32_t n) {
-    mesh_.for_each_edge(n, [&](uint32_t h, uint32_t, bool) {
-        const uint32_t t = mesh_.twin[h];
-        const uint32_t id = t != kNone && t < h ? t : h;
-        if (!listed_[id]) listed_[id] = 1, born_.push_back(id);
+void Simplifier::list_new_edges(size_t count) {
+    // One piece of the new vertices per thread, each listing into its own array in order, then
+    // the pieces in order: the list a loop over the vertices makes. The new vertices' fans share
+    // no edge (their collapses' neighbourhoods were disjoint), so each edge is listed once.
+    const size_t pieces = parallel_.pieces(count);
+    if (born_pieces_.size() < pieces) born_pieces_.resize(pieces);
+    parallel_.for_pieces(count, [&](size_t begin, size_t end, size_t p) {
+        std::vector<uint32_t>& piece = born_pieces_[p];
+        piece.clear();
+        for (size_t j = begin; j < end; ++j)
+            mesh_.for_each_edge(news_[j], [&](uint32_t h, uint32_t, bool) {
+                const uint32_t t = mesh_.twin[h];
+                const uint32_t id = t != kNone && t < h ? t : h;
+                if (!listed_[id]) listed_[id] = 1, piece.push_back(id);
+            });
     });
+    for (size_t p = 0; p < pieces; ++p)
+        born_.insert(born_.end(), born_pieces_[p].begin(), born_pieces_[p].end());
 }
 
 double Simplifier::geometry_weight() const {
@@ -296,6 +308,28 @@ bool Simplifier::waits(uint32_t id, float key, float planned) {
     return false;
 }
 
+void Simplifier::publish_selected(bool over) {
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    if (!over) {
+        if (collapse)
+            plans_.emplace_back();
+        else
+            removals_.emplace_back();
+        if (selected_.size() % kCheckBatch != 0) return;
+    }
+    published_.store(selected_.size() | (over ? kWalkOver : 0), std::memory_order_release);
+    published_.notify_all();
+}
+
+size_t Simplifier::wait_published(size_t count) {
+    uint64_t state = published_.load(std::memory_order_acquire);
+    while (!(state & kWalkOver) && state < count) {
+        published_.wait(state, std::memory_order_acquire);
+        state = published_.load(std::memory_order_acquire);
+    }
+    return std::min<size_t>(count, state & ~kWalkOver);
+}
+
 bool Simplifier::checkpoint() {
     if (cancelled_) return false;
     if (!options_.progress) return true;
@@ -324,14 +358,16 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     ++pass_;
 
     // Select, in rank order: a candidate whose neighbourhood no candidate selected before it
-    // touches (selection.cpp). The checks then run on the threads, each on the surface as the
-    // pass found it. What is selected never depends on a check being done yet, so nothing
-    // depends on the thread count. Rounds repeat this among the candidates that only a refused
-    // or waiting one blocked: its neighbourhood is free again.
+    // touches (selection.cpp). The checks run on the other threads while the walk goes on, each
+    // on the surface as the pass found it; the calling thread joins them when its walk is done.
+    // What is selected never depends on a check being done yet, so nothing depends on the
+    // thread count. Rounds repeat this among the candidates that only a refused or waiting one
+    // blocked: its neighbourhood is free again.
     taken_.clear();
     pending_.clear();
     // A candidate is selected once a pass at most: room for the share's plans (pages never
-    // written cost nothing), so that a round's plans do not move the earlier rounds'.
+    // written cost nothing), so that neither a round's plans nor the walk's move those that
+    // checks are writing.
     plans_.clear(), removals_.clear();
     if (collapse)
         plans_.reserve(share);
@@ -342,23 +378,41 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     const uint32_t taken_stamp = ++stamp_;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
         const uint32_t round_stamp = ++stamp_;
-        if (!select(taken_stamp, round_stamp)) return stop = StopReason::Cancelled, true;
         // Each selected one's plan after the rounds' before it: the taken ones stay where their
         // check put them until they are applied.
-        const size_t w = selected_.size(), first = collapse ? plans_.size() : removals_.size();
-        checked_.resize(w);
-        if (collapse)
-            plans_.resize(first + w);
-        else
-            removals_.resize(first + w);
-        if (in_blocks(w, [&](size_t begin, size_t end) {
-                for (size_t i = begin; i < end; ++i) {
-                    Member& m = pool_[order_[selected_[i]].id];
-                    checked_[i] = collapse ? check_collapse(m, plans_[first + i])
-                                           : check_removal(m.id, removals_[first + i]);
-                }
-            }) < w)
+        const size_t first = collapse ? plans_.size() : removals_.size();
+        selected_.reserve(pending_.size());
+        checked_.resize(pending_.size());
+        published_.store(0, std::memory_order_relaxed);
+        std::atomic<size_t> claimed{0};
+        std::atomic<bool> stopped{false};
+        bool walked = true;
+        parallel_.beside([&] { walked = select(taken_stamp, round_stamp); },
+                         [&](bool calling) {
+                             size_t since_progress = 0;
+                             for (;;) {
+                                 const size_t begin =
+                                     claimed.fetch_add(kCheckBatch, std::memory_order_relaxed);
+                                 const size_t end = wait_published(begin + kCheckBatch);
+                                 if (begin >= end || stopped.load(std::memory_order_relaxed))
+                                     return;
+                                 for (size_t i = begin; i < end; ++i) {
+                                     Member& m = pool_[order_[selected_[i]].id];
+                                     checked_[i] = collapse
+                                                       ? check_collapse(m, plans_[first + i])
+                                                       : check_removal(m.id, removals_[first + i]);
+                                 }
+                                 since_progress += end - begin;
+                                 if (calling && since_progress >= kBlock) {
+                                     since_progress = 0;
+                                     if (!checkpoint())
+                                         return stopped.store(true, std::memory_order_relaxed);
+                                 }
+                             }
+                         });
+        if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
+        const size_t w = selected_.size();
         // The taken ones keep their neighbourhoods for the rest of the pass (disjoint: one
         // round's selection).
         parallel_.for_each(w, [&](size_t i) {
@@ -436,7 +490,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     }
     operations_ += applied;
     mesh_.live_triangles = live;
-    for (size_t j = 0; j < applied && collapse; ++j) list_edges_of(news_[j]);
+    if (collapse) list_new_edges(applied);
     if (applied < count) return stop = StopReason::Cancelled, true;
     if (live <= target) return stop = StopReason::TargetReached, true;
     if (!checkpoint()) return stop = StopReason::Cancelled, true;

@@ -13,6 +13,8 @@
 #include "weights.h"
 #include "working_mesh.h"
 
+#include <atomic>
+
 namespace ddsimp {
 
 class Simplifier {
@@ -122,7 +124,18 @@ private:
     // candidate blocks goes into blocked_, with the index in selected_ of the one that blocks it
     // in blocked_by_; one next to an operation taken this pass (stamped taken_stamp), or larger
     // than kMaxNeighbourhood, cannot be selected in this pass. False: cancelled.
+    // Each selected one gets its plan's place at once, and every kCheckBatch of them are
+    // published to the checks running beside the walk (see run_pass).
     bool select(uint32_t taken_stamp, uint32_t round_stamp);
+    // After the walk selected another one (over: after the walk ended): its plan's place, and
+    // the count of selected ones for the checks, with kWalkOver once the walk is over.
+    void publish_selected(bool over);
+    // Waits until `count` selected ones are published or the walk is over; returns how many of
+    // the first `count` there are.
+    size_t wait_published(size_t count);
+    static constexpr size_t kCheckBatch = 32;
+    static constexpr uint64_t kWalkOver = uint64_t(1) << 63;
+    std::atomic<uint64_t> published_{0};
     // The candidates that the round's refused or waiting ones blocked into pending_: the others
     // are next to a taken operation now.
     void pend_blocked();
@@ -177,8 +190,8 @@ private:
     enum class Check : uint8_t { Refused, Waits, Taken };
     struct Member;
     Check check_collapse(Member& candidate, CollapsePlan& plan);
-    // The new edges of a collapse's vertex n join the pool.
-    void list_edges_of(uint32_t n);
+    // The new edges of the collapses' new vertices news_[0..count) join the pool (born_).
+    void list_new_edges(size_t count);
 
     // vertex_removal.cpp
     bool removable(uint32_t v) const;
@@ -242,6 +255,7 @@ private:
     static constexpr uint8_t kDeadMember = 0, kLiveMember = 1, kCandidate = 2;
     detail::Array<uint8_t> status_;
     std::vector<uint32_t> born_;
+    std::vector<std::vector<uint32_t>> born_pieces_; // list_new_edges' lists, one per thread
     detail::Array<uint8_t> listed_;
     // The pass's lightest, sorted, and the sort's scratch space.
     detail::Array<detail::Candidate> order_, scratch_;
