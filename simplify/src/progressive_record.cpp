@@ -14,7 +14,8 @@ ProgressiveRecord ProgressiveRecord::run(const Surface& input, const Options& op
                                          bool measure) {
     RepairReport repairs;
     Surface repaired;
-    const Surface& surface = detail::validated(input, repaired, repairs);
+    detail::Parallel parallel(options.threads);
+    const Surface& surface = detail::validated(input, repaired, repairs, parallel);
     std::vector<float> made; // per collapse: the new point, then its data
     ProgressiveRecord record = Simplifier(surface, options, repairs).run(made);
     record.take_input(surface, made);

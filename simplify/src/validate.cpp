@@ -3,6 +3,8 @@
 
 #include "huge_pages.h"
 
+#include <atomic>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -27,15 +29,34 @@ void check_shape(const Surface& s) {
     if (s.triangles.empty()) reject("the surface has no triangles");
 }
 
-void check_positions(const Surface& s) {
+// Whether bad(i) holds for any i in [0, n), looked for on the threads; the checks then find the
+// first one alone, for their message.
+template <class F> bool any_of(detail::Parallel& parallel, size_t n, F&& bad) {
+    std::atomic<bool> found{false};
+    parallel.for_range(
+        n,
+        [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end && !found.load(std::memory_order_relaxed); ++i)
+                if (bad(i)) found.store(true, std::memory_order_relaxed);
+        },
+        4096);
+    return found.load();
+}
+
+void check_positions(const Surface& s, detail::Parallel& parallel) {
+    if (!any_of(parallel, s.positions.size(),
+                [&](size_t i) { return !std::isfinite(s.positions[i]); }))
+        return;
     for (size_t i = 0; i < s.positions.size(); ++i)
         if (!std::isfinite(s.positions[i]))
             reject("vertex " + std::to_string(i / 3) + " has a non-finite coordinate (" +
                    std::to_string(s.positions[i]) + ")");
 }
 
-void check_indices(const Surface& s) {
+void check_indices(const Surface& s, detail::Parallel& parallel) {
     const size_t n = s.vertex_count();
+    if (!any_of(parallel, s.triangles.size(), [&](size_t i) { return s.triangles[i] >= n; }))
+        return;
     for (size_t i = 0; i < s.triangles.size(); ++i)
         if (s.triangles[i] >= n)
             reject("triangle " + std::to_string(i / 3) + " refers to vertex " +
@@ -43,7 +64,7 @@ void check_indices(const Surface& s) {
                    " vertices");
 }
 
-void check_fields(const Surface& s) {
+void check_fields(const Surface& s, detail::Parallel& parallel) {
     std::set<std::string> names;
     for (const Field& f : s.fields) {
         if (f.name.empty()) reject("a field has an empty name");
@@ -56,6 +77,9 @@ void check_fields(const Surface& s) {
                    " values, expected " + std::to_string(expected) + " (" +
                    std::to_string(f.components) + " per vertex for " +
                    std::to_string(s.vertex_count()) + " vertices)");
+        if (!any_of(parallel, f.values.size(),
+                    [&](size_t i) { return !std::isfinite(f.values[i]); }))
+            continue;
         for (size_t i = 0; i < f.values.size(); ++i)
             if (!std::isfinite(f.values[i]))
                 reject("field '" + f.name + "' has a non-finite value at vertex " +
@@ -66,48 +90,61 @@ void check_fields(const Surface& s) {
 // Keeps the first of every set of triangles naming the same three vertices (in any order) and
 // drops triangles that name a vertex twice: the triangles kept into `out` if any is dropped
 // (returns true), nothing written otherwise.
-bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairReport& report) {
+bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairReport& report,
+                        detail::Parallel& parallel) {
     const size_t count = s.triangle_count();
     // Each triangle's vertices sorted; triangles bucketed by their lowest vertex (counting sort,
     // in triangle order), so that a duplicate is found among the few earlier ones of its bucket.
+    // Per triangle and per bucket on the threads: each writes only its own.
     detail::Array<std::array<uint32_t, 3>> keys(count);
     detail::Array<uint8_t> keep(count, 1);
-    detail::Array<uint32_t> first(s.vertex_count() + 1, 0);
-    for (uint32_t t = 0; t < count; ++t) {
+    parallel.for_each(count, [&](size_t t) {
         std::array<uint32_t, 3> k{s.triangles[3 * t], s.triangles[3 * t + 1],
                                   s.triangles[3 * t + 2]};
         if (k[0] == k[1] || k[1] == k[2] || k[0] == k[2]) {
             keep[t] = 0;
-            ++report.degenerate_triangles_dropped;
-            continue;
+            return;
         }
         std::sort(k.begin(), k.end());
         keys[t] = k;
-        ++first[k[0] + 1];
+    });
+    detail::Array<uint32_t> first(s.vertex_count() + 1, 0);
+    for (uint32_t t = 0; t < count; ++t) {
+        if (keep[t])
+            ++first[keys[t][0] + 1];
+        else
+            ++report.degenerate_triangles_dropped;
     }
     for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
     detail::Array<uint32_t> bucket(first.back()), fill(first.begin(), first.end() - 1);
     for (uint32_t t = 0; t < count; ++t)
         if (keep[t]) bucket[fill[keys[t][0]]++] = t;
-    auto drop = [&](uint32_t t) { keep[t] = 0, ++report.duplicate_triangles_dropped; };
-    for (size_t v = 0; v + 1 < first.size(); ++v) {
-        const uint32_t begin = first[v], end = first[v + 1];
-        if (end - begin <= 16) { // the usual few: compare with the earlier ones
-            for (uint32_t i = begin; i < end; ++i)
-                for (uint32_t j = begin; j < i; ++j)
-                    if (keys[bucket[j]] == keys[bucket[i]]) {
-                        drop(bucket[i]); // the first of equal triangles stays
-                        break;
-                    }
-            continue;
+    detail::Array<uint32_t>().swap(fill);
+    std::atomic<size_t> duplicates{0};
+    parallel.for_range(s.vertex_count(), [&](size_t from, size_t to) {
+        size_t dropped = 0;
+        auto drop = [&](uint32_t t) { keep[t] = 0, ++dropped; };
+        for (size_t v = from; v < to; ++v) {
+            const uint32_t begin = first[v], end = first[v + 1];
+            if (end - begin <= 16) { // the usual few: compare with the earlier ones
+                for (uint32_t i = begin; i < end; ++i)
+                    for (uint32_t j = begin; j < i; ++j)
+                        if (keys[bucket[j]] == keys[bucket[i]]) {
+                            drop(bucket[i]); // the first of equal triangles stays
+                            break;
+                        }
+                continue;
+            }
+            // A hub: sort its bucket instead of comparing every pair.
+            std::sort(bucket.begin() + begin, bucket.begin() + end, [&](uint32_t a, uint32_t b) {
+                return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
+            });
+            for (uint32_t i = begin + 1; i < end; ++i)
+                if (keys[bucket[i]] == keys[bucket[i - 1]]) drop(bucket[i]);
         }
-        // A hub: sort its bucket instead of comparing every pair.
-        std::sort(bucket.begin() + begin, bucket.begin() + end, [&](uint32_t a, uint32_t b) {
-            return keys[a] != keys[b] ? keys[a] < keys[b] : a < b;
-        });
-        for (uint32_t i = begin + 1; i < end; ++i)
-            if (keys[bucket[i]] == keys[bucket[i - 1]]) drop(bucket[i]);
-    }
+        duplicates += dropped;
+    });
+    report.duplicate_triangles_dropped += duplicates.load();
     if (report.degenerate_triangles_dropped + report.duplicate_triangles_dropped == 0) return false;
     out.clear();
     for (size_t t = 0; t < count; ++t)
@@ -124,7 +161,7 @@ bool drop_bad_triangles(const Surface& s, std::vector<uint32_t>& out, RepairRepo
 // directions, walking each component breadth-first from its lowest-numbered triangle: per
 // triangle of `triangles` (over nv vertices), 2 if it is to be flipped.
 std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, size_t nv,
-                                       RepairReport& report) {
+                                       RepairReport& report, detail::Parallel& parallel) {
     constexpr uint32_t kNone = 0xffffffffu;
     const size_t nt = triangles.size() / 3;
     // The triangle across each edge of each triangle (by half-edge 3t + c of the input's
@@ -147,7 +184,7 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
         group[fill[low]++] = uint64_t(high) << 32 | h;
     }
     detail::Array<uint32_t> across(halfedges, kNone);
-    for (size_t v = 0; v < nv; ++v) {
+    parallel.for_each(nv, [&](size_t v) { // each group on its own
         const auto begin = group.begin() + first[v], end = group.begin() + first[v + 1];
         std::sort(begin, end); // by the higher vertex: each edge's half-edges together
         for (auto i = begin; i != end;) {
@@ -159,7 +196,7 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
             }
             i = j;
         }
-    }
+    });
 
     // Does triangle t, not flipped, run the edge a -> b?
     auto runs = [&](uint32_t t, uint32_t a, uint32_t b) {
@@ -200,16 +237,17 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
 
 namespace detail {
 
-bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired,
-                      RepairReport& report) {
+bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired, RepairReport& report,
+                      Parallel& parallel) {
     report = {};
     check_shape(surface);
-    check_positions(surface);
-    check_indices(surface);
-    check_fields(surface);
-    const bool dropped = drop_bad_triangles(surface, repaired, report);
+    check_positions(surface, parallel);
+    check_indices(surface, parallel);
+    check_fields(surface, parallel);
+    const bool dropped = drop_bad_triangles(surface, repaired, report, parallel);
     const std::vector<uint32_t>& triangles = dropped ? repaired : surface.triangles;
-    const std::vector<uint8_t> flips = orientation_flips(triangles, surface.vertex_count(), report);
+    const std::vector<uint8_t> flips =
+        orientation_flips(triangles, surface.vertex_count(), report, parallel);
     if (report.triangles_flipped > 0) {
         if (!dropped) repaired = surface.triangles;
         for (size_t t = 0; t < flips.size(); ++t)
@@ -222,9 +260,10 @@ bool repair_triangles(const Surface& surface, std::vector<uint32_t>& repaired,
     return dropped || report.triangles_flipped > 0;
 }
 
-const Surface& validated(const Surface& input, Surface& repaired, RepairReport& report) {
+const Surface& validated(const Surface& input, Surface& repaired, RepairReport& report,
+                         Parallel& parallel) {
     std::vector<uint32_t> triangles;
-    if (!repair_triangles(input, triangles, report)) return input;
+    if (!repair_triangles(input, triangles, report, parallel)) return input;
     repaired.positions = input.positions;
     repaired.fields = input.fields;
     repaired.triangles = std::move(triangles);
@@ -236,7 +275,8 @@ const Surface& validated(const Surface& input, Surface& repaired, RepairReport& 
 RepairReport validate(Surface& surface) {
     RepairReport report;
     std::vector<uint32_t> triangles;
-    if (detail::repair_triangles(surface, triangles, report))
+    detail::Parallel one(1);
+    if (detail::repair_triangles(surface, triangles, report, one))
         surface.triangles = std::move(triangles);
     return report;
 }

@@ -72,7 +72,8 @@ namespace {
 detail::WorkingMesh analysed(const Surface& input) {
     RepairReport repairs;
     Surface repaired;
-    const Surface& surface = detail::validated(input, repaired, repairs);
+    detail::Parallel one(1);
+    const Surface& surface = detail::validated(input, repaired, repairs, one);
     detail::WorkingMesh mesh;
     detail::Limits limits; // features do not matter for the weights
     mesh.build(surface, surface.vertex_count(), limits);
