@@ -330,6 +330,27 @@ size_t Simplifier::wait_published(size_t count) {
     return std::min<size_t>(count, state & ~kWalkOver);
 }
 
+void Simplifier::check_published(size_t first, std::atomic<size_t>& claimed,
+                                 std::atomic<bool>& stopped, bool calling) {
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    size_t since_progress = 0;
+    for (;;) {
+        const size_t begin = claimed.fetch_add(kCheckBatch, std::memory_order_relaxed);
+        const size_t end = wait_published(begin + kCheckBatch);
+        if (begin >= end || stopped.load(std::memory_order_relaxed)) return;
+        for (size_t i = begin; i < end; ++i) {
+            Member& m = pool_[order_[selected_[i]].id];
+            checked_[i] = collapse ? check_collapse(m, plans_[first + i])
+                                   : check_removal(m.id, removals_[first + i]);
+        }
+        since_progress += end - begin;
+        if (calling && since_progress >= kBlock) {
+            since_progress = 0;
+            if (!checkpoint()) return stopped.store(true, std::memory_order_relaxed);
+        }
+    }
+}
+
 bool Simplifier::checkpoint() {
     if (cancelled_) return false;
     if (!options_.progress) return true;
@@ -388,28 +409,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         std::atomic<bool> stopped{false};
         bool walked = true;
         parallel_.beside([&] { walked = select(taken_stamp, round_stamp); },
-                         [&](bool calling) {
-                             size_t since_progress = 0;
-                             for (;;) {
-                                 const size_t begin =
-                                     claimed.fetch_add(kCheckBatch, std::memory_order_relaxed);
-                                 const size_t end = wait_published(begin + kCheckBatch);
-                                 if (begin >= end || stopped.load(std::memory_order_relaxed))
-                                     return;
-                                 for (size_t i = begin; i < end; ++i) {
-                                     Member& m = pool_[order_[selected_[i]].id];
-                                     checked_[i] = collapse
-                                                       ? check_collapse(m, plans_[first + i])
-                                                       : check_removal(m.id, removals_[first + i]);
-                                 }
-                                 since_progress += end - begin;
-                                 if (calling && since_progress >= kBlock) {
-                                     since_progress = 0;
-                                     if (!checkpoint())
-                                         return stopped.store(true, std::memory_order_relaxed);
-                                 }
-                             }
-                         });
+                         [&](bool calling) { check_published(first, claimed, stopped, calling); });
         if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
         const size_t w = selected_.size();

@@ -133,6 +133,11 @@ private:
     // Waits until `count` selected ones are published or the walk is over; returns how many of
     // the first `count` there are.
     size_t wait_published(size_t count);
+    // A check thread's part of a round (see run_pass): claims batches of the published selected
+    // ones and checks them, their plans from plans_[first] or removals_[first] on, until the walk
+    // is over and nothing is left or `stopped`; the calling thread reports progress.
+    void check_published(size_t first, std::atomic<size_t>& claimed, std::atomic<bool>& stopped,
+                         bool calling);
     static constexpr size_t kCheckBatch = 32;
     static constexpr uint64_t kWalkOver = uint64_t(1) << 63;
     std::atomic<uint64_t> published_{0};
