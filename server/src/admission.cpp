@@ -12,6 +12,7 @@ ConnectionSlot::ConnectionSlot(std::shared_ptr<AdmissionState> state,
     : state_(std::move(state)), address_(std::move(address)) {}
 
 ConnectionSlot::~ConnectionSlot() {
+    std::lock_guard lock(state_->mutex);
     auto it = state_->per_address.find(address_);
     if (it != state_->per_address.end() && --it->second == 0) state_->per_address.erase(it);
     --state_->held;
@@ -48,10 +49,17 @@ Admission::Admission(ConnectionLimits limits, Metrics& metrics)
 }
 
 Admission::~Admission() {
+    std::lock_guard lock(state_->mutex);
     state_->metrics = nullptr;
 }
 
+size_t Admission::held() const {
+    std::lock_guard lock(state_->mutex);
+    return state_->held;
+}
+
 Slot Admission::admit(const boost::asio::ip::address& address, std::string& why) {
+    std::lock_guard lock(state_->mutex);
     if (state_->held >= limits_.total) {
         why = "the server has its maximum of " + std::to_string(limits_.total) + " clients";
         ++metrics_.connections_refused;

@@ -1,7 +1,10 @@
 // Which connections the server takes: every accepted socket (native, HTTP, WebSocket, a TLS
 // handshake in progress) holds a place until it is closed, within a limit for all and one per
 // client address. The limits are sized at start below the descriptor limit, so that a flood of
-// connections meets a refusal, never a server out of descriptors. Network thread only.
+// connections meets a refusal, never a server out of descriptors. Places are taken on the network
+// thread; a place is given back wherever its connection's last owner goes (a compute or preview
+// thread may hold the last reference to an HTTP session or a connection), so the counts are
+// under a lock.
 #pragma once
 
 #include "config.h"
@@ -11,19 +14,22 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 namespace ddsimp::server {
 
 // The places taken: shared with every slot, so that a slot released after the Admission is gone
-// (a handler destroyed with the io_context) is harmless.
+// (a handler destroyed with the io_context) is harmless. Every member under `mutex`.
 struct AdmissionState {
+    std::mutex mutex;
     Metrics* metrics = nullptr; // null once the Admission is gone
     size_t held = 0;
     std::map<boost::asio::ip::address, size_t> per_address;
 };
 
-// A connection's place: released when the last owner (its transport or HTTP session) goes.
+// A connection's place: released when the last owner (its transport or HTTP session) goes, on
+// any thread.
 class ConnectionSlot {
 public:
     ConnectionSlot(std::shared_ptr<AdmissionState> state, boost::asio::ip::address address);
@@ -55,7 +61,7 @@ public:
 
     // A place for a connection from `address`, or nullptr with `why` set.
     Slot admit(const boost::asio::ip::address& address, std::string& why);
-    size_t held() const { return state_->held; }
+    size_t held() const;
     const ConnectionLimits& limits() const { return limits_; }
 
 private:

@@ -54,9 +54,12 @@ uint64_t estimated_bytes(const StoredSurface& s, const std::vector<size_t>& targ
 } // namespace
 
 // A request between the network thread and the pool: only what its levels need, never the
-// request message (whose unknown fields a client may pad).
+// request message (whose unknown fields a client may pad). It holds its client weakly: the pool
+// or the preview thread may let go of the job last, and a Connection (with its transport and
+// its place among the clients) is let go on the network thread only.
 struct Service::RequestJob {
-    std::shared_ptr<Connection> connection;
+    std::weak_ptr<Connection> connection;
+    uint64_t client = 0;
     uint64_t request_id = 0;
     std::vector<float> keep; // per level, as asked
     ReductionParams params;
@@ -109,6 +112,7 @@ void Service::request(std::shared_ptr<Connection> c, const v1::Request& r) {
 
     auto job = std::make_shared<RequestJob>();
     job->connection = c;
+    job->client = c->id();
     job->request_id = rid;
     job->keep.assign(r.keep().begin(), r.keep().end());
     job->ended = std::make_shared<std::atomic<bool>>(false);
@@ -308,18 +312,18 @@ void Service::deliver(const std::shared_ptr<RequestJob>& job, std::vector<Prepar
                       v1::Error error, bool last) {
     asio::post(io_,
                [this, job, levels = std::move(levels), error = std::move(error), last]() mutable {
-                   const std::shared_ptr<Connection>& c = job->connection;
+                   const std::shared_ptr<Connection> c = job->connection.lock();
                    const uint64_t rid = job->request_id;
                    if (last) {
-                       auto it = running_.find({c->id(), rid});
+                       auto it = running_.find({job->client, rid});
                        if (it != running_.end() && it->second.ended == job->ended)
-                           forget_request(c->id(), rid);
+                           forget_request(job->client, rid);
                        end_request_job(c.get(), job->accounted_bytes);
                    }
                    // A key is remembered once a level has named it: a request that fails
                    // (an unknown field, a cancel) leaves nothing behind.
                    if (!levels.empty()) remember_result(job->key, job->params);
-                   if (!c->open() || !c->request_active(rid)) return; // gone or cancelled
+                   if (!c || !c->open() || !c->request_active(rid)) return; // gone or cancelled
                    if (last) c->end_request(rid);
                    if (error.code() != v1::Error::CODE_UNSPECIFIED) {
                        ++metrics_.request_errors;
@@ -393,9 +397,9 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
             return;
         }
         asio::post(io_, [this, job, begin = std::move(begin), blob = std::move(blob)] {
-            const std::shared_ptr<Connection>& c = job->connection;
+            const std::shared_ptr<Connection> c = job->connection.lock();
             const uint64_t rid = job->request_id;
-            if (!c->open() || !c->request_active(rid) || job->exact_sent) return;
+            if (!c || !c->open() || !c->request_active(rid) || job->exact_sent) return;
             BulkItem item;
             item.request_id = rid;
             item.surface = job->params.surface;
