@@ -5,6 +5,9 @@
 // limits allow on top of what it held before the attack.
 #include "hostile_support.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <random>
 
 namespace ddsimp::test {
@@ -249,6 +252,82 @@ TEST_F(HostileClients, AReaderThatStopsMidMeshIsDroppedWithinItsQueueBound) {
     EXPECT_EQ(await_metric(server_->http_port, "ddsimp_queue_bytes", 0), 0);
     // The levels live in the result cache (bounded) and, beyond it, only in the client's queue.
     expect_peak_within((kCacheMiB + kQueueMiB) * kMiB + kAllocatorSlack);
+}
+
+// The server's log (its stderr) into `path`, for ServerProcess's `before_exec`.
+std::function<void()> stderr_to(const std::string& path) {
+    return [path] {
+        const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::dup2(fd, 2);
+        ::close(fd);
+    };
+}
+
+std::string file_text(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// --max-queue-total-mb: what all clients together may have waiting to be sent. A client that
+// stops reading holds most of it within its own --max-queue-mb; the client whose level would then
+// pass the total is dropped, with the documented reason in the log, and only that one: the reader
+// that stopped keeps its place (the send timeout is its bound) and a third client is served.
+TEST(HostileQueues, TheClientWhoseLevelWouldPassTheTotalQueueIsDropped) {
+    constexpr size_t kTotalMiB = 26;
+    const auto dir = temp_dir("queue-total");
+    const auto log = dir / "server.log";
+    ServerProcess server(dir / "data",
+                         {"--max-queue-total-mb", std::to_string(kTotalMiB), "--max-queue-mb",
+                          std::to_string(kTotalMiB), "--send-timeout", "300"},
+                         stderr_to(log.string()));
+    WellBehavedClient good(server.port);
+    // 327,680 triangles, 163,842 vertices with 4 field components: a whole level is 12 bytes a
+    // triangle and 28 a vertex raw, about 8.1 MiB.
+    const Surface big = with_test_fields(icosphere(7));
+    const size_t level_bytes = 12 * big.triangle_count() + 28 * big.vertex_count();
+    const std::string id = good.raw().upload(big, 7).surface();
+
+    // Three near-whole levels (about 24 MiB, within both limits) for a client that reads nothing.
+    RawClient stalled(server.port);
+    stalled.socket().set_option(boost::asio::socket_base::receive_buffer_size(4096));
+    stalled.hello({});
+    stalled.send(level_request(id, {1.0f, 0.99f, 0.98f}, 1));
+    // All three are queued once its job has ended; what loopback's buffers took is not queued.
+    double held = 0;
+    for (int i = 0; i < 1200; ++i) {
+        held = metric(server.http_port, "ddsimp_queue_bytes");
+        if (held > 0 && metric(server.http_port, "ddsimp_request_jobs") == 0) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    EXPECT_EQ(metric(server.http_port, "ddsimp_request_jobs"), 0);
+    ASSERT_GT(held + double(level_bytes), double(kTotalMiB * kMiB))
+        << "the stalled client holds only " << held << " bytes: one more level must pass the total";
+    ASSERT_LE(held, double(kTotalMiB * kMiB));
+
+    // One whole level fits this client's own queue, but not beside what the stalled one holds.
+    RawClient passing(server.port);
+    passing.hello({});
+    const uint16_t passing_port = passing.socket().local_endpoint().port();
+    passing.send(level_request(id, {1.0f}, 2));
+    EXPECT_TRUE(passing.closed_by_server(std::chrono::seconds(60)));
+    EXPECT_EQ(metric(server.http_port, "ddsimp_connections_dropped_total"), 1);
+    // The stalled client and the good one are still connected, and the good one is served.
+    EXPECT_EQ(await_metric(server.http_port, "ddsimp_connections", 2), 2);
+    good.check_level();
+    good.ping();
+    EXPECT_LE(metric(server.http_port, "ddsimp_queue_bytes"), double(kTotalMiB * kMiB));
+
+    const std::string text = file_text(log);
+    const std::string reason = "its level would pass the " + std::to_string(kTotalMiB) +
+                               " MiB all clients may have waiting to be sent "
+                               "(--max-queue-total-mb)";
+    const size_t at = text.find(reason);
+    ASSERT_NE(at, std::string::npos) << text;
+    const size_t line = text.rfind('\n', at) + 1;
+    EXPECT_NE(text.substr(line, at - line).find("127.0.0.1:" + std::to_string(passing_port)),
+              std::string::npos)
+        << "the client dropped is the one whose level passed: " << text.substr(line, at - line);
+    EXPECT_EQ(text.find(reason, at + 1), std::string::npos) << "one client dropped: " << text;
 }
 
 // af17e1f: a client waiting for its own request is not idle. Nothing is sent while a level is
