@@ -32,7 +32,8 @@ if ((hostile)); then
     # 75 MB); the upload timeout short enough to expire during the attack.
     # The largest surface is the carotid (1.18 M triangles, 61 MB raw).
     hostile_flags="--max-clients 128 --max-frame-bytes 1048576 --max-queue-mb 32
-        --max-queue-total-mb 256 --cache-mb 256 --surfaces-mb 64 --max-upload-mb 256
+        --max-queue-total-mb 256 --max-download-mb 64 --cache-mb 256 --surfaces-mb 64
+        --max-upload-mb 256
         --max-surface-mb 64 --max-surface-triangles 1200000 --max-remembered-kb 4096
         --upload-timeout 20 --handshake-timeout 5"
     # TLS on both ports with a throw-away certificate: the attackers speak TLS, and some stop

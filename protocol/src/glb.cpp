@@ -123,7 +123,9 @@ void pad_to_4(std::string& bytes, char with) {
 // data, gives the views their uncompressed place.
 class Builder {
 public:
-    explicit Builder(bool meshopt) : meshopt_(meshopt) {}
+    // `raw_bytes`: the views' bytes uncompressed, reserved at once so that the chunk never
+    // grows by copying (a .glb is built on a server's thread within its memory bound).
+    Builder(bool meshopt, size_t raw_bytes) : meshopt_(meshopt) { chunk_.reserve(raw_bytes); }
 
     int indices(const std::vector<uint32_t>& triangles, size_t vertex_count) {
         const size_t count = triangles.size();
@@ -200,10 +202,11 @@ public:
         }
         std::string text = doc.dump();
         pad_to_4(text, ' ');
-        std::string bin = chunk_;
-        pad_to_4(bin, '\0');
+        // The BIN chunk is the views' bytes padded to 4 (every view ends padded already).
+        const size_t bin = (chunk_.size() + 3) / 4 * 4;
 
         std::string out;
+        out.reserve(12 + 8 + text.size() + 8 + bin);
         auto u32 = [&out](uint32_t x) {
             char b[4];
             std::memcpy(b, &x, 4); // glTF is little endian, as every platform this builds on
@@ -211,13 +214,14 @@ public:
         };
         u32(0x46546C67); // "glTF"
         u32(2);
-        u32(uint32_t(12 + 8 + text.size() + 8 + bin.size()));
+        u32(uint32_t(12 + 8 + text.size() + 8 + bin));
         u32(uint32_t(text.size()));
         u32(0x4E4F534A); // "JSON"
         out += text;
-        u32(uint32_t(bin.size()));
+        u32(uint32_t(bin));
         u32(0x004E4942); // "BIN\0"
-        out += bin;
+        out += chunk_;
+        out.append(bin - chunk_.size(), '\0');
         return out;
     }
 
@@ -280,7 +284,10 @@ std::string write_glb(const Surface& surface, const GlbOptions& options) {
     const Field* colour = glb_colour_field(surface, options.colour_field);
     const size_t n = surface.vertex_count();
 
-    Builder b(options.meshopt);
+    size_t components = 3 + 3 + (colour ? 3 : 0); // position, normal, colour
+    for (const Field& f : surface.fields) components += size_t(f.components);
+    const size_t index_bytes = n <= 0xffff ? 2 : 4;
+    Builder b(options.meshopt, surface.triangles.size() * index_bytes + 4 * components * n + 64);
     json attributes;
     const int indices = b.indices(surface.triangles, n);
     attributes["POSITION"] = b.floats(surface.positions.data(), n, 3, true);

@@ -96,6 +96,10 @@ Config parse_config(int argc, char** argv) {
         "dropped");
     opt("--max-upload-mb", c.max_upload_mb,
         "all clients together: MiB of uploads received but not yet stored");
+    opt("--max-download-mb", c.max_download_mb,
+        "all clients together: MiB of HTTP downloads being built and sent, level.glb files (one "
+        "counts four times its file while it is built) and web files; one that would pass it is "
+        "refused");
     opt("--max-remembered-kb", c.max_remembered_kb,
         "KiB of result keys remembered after their requests (for resuming by key)");
     opt("--quota-surfaces", c.quota_surfaces,

@@ -59,6 +59,7 @@ struct Config {
     size_t max_queue_mb = 256;        // per client: bytes waiting to be sent
     size_t max_queue_total_mb = 1024; // all clients together
     size_t max_upload_mb = 1024;      // all clients together: uploads received but not yet stored
+    size_t max_download_mb = 512;     // all clients together: HTTP downloads built and being sent
     size_t max_remembered_kb = 16384; // result keys remembered after their requests, for resuming
     // Per token and per session (quotas.h): stored surfaces, their MiB, and MiB of uploads in
     // progress.

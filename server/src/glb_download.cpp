@@ -59,7 +59,40 @@ std::optional<double> number(const std::string& text) {
     return x;
 }
 
+// A plain-text answer (an error): `text` and a newline.
+GlbAnswer text_answer(int status, const std::string& text) {
+    GlbAnswer a;
+    a.status = status;
+    a.body = text + "\n";
+    return a;
+}
+
 } // namespace
+
+uint64_t glb_file_bytes(uint64_t vertices, uint64_t triangles, uint64_t components) {
+    return 12 * triangles + vertices * (36 + 4 * components) + (64u << 10);
+}
+
+bool DownloadBudget::take(uint64_t bytes) {
+    uint64_t now = held_.load();
+    do {
+        if (bytes > limit_ || now > limit_ - bytes) return false;
+    } while (!held_.compare_exchange_weak(now, now + bytes));
+    return true;
+}
+
+std::shared_ptr<DownloadHold> DownloadHold::take(std::shared_ptr<DownloadBudget> budget,
+                                                 uint64_t bytes) {
+    if (!budget->take(bytes)) return nullptr;
+    return std::make_shared<DownloadHold>(std::move(budget), bytes);
+}
+
+bool DownloadHold::resize(uint64_t bytes) {
+    if (bytes > bytes_ && !budget_->take(bytes - bytes_)) return false;
+    if (bytes < bytes_) budget_->give_back(bytes_ - bytes);
+    bytes_ = bytes;
+    return true;
+}
 
 GlbDownload parse_glb_download(std::string_view target, std::string_view authorization) {
     GlbDownload d;
@@ -221,15 +254,13 @@ void route_glb_downloads(HttpServer& http) {
                                      res.set(http::field::content_disposition,
                                              "attachment; filename=\"" + a.filename + "\"");
                                  res.body() = std::move(a.body);
-                                 reply(std::move(res));
+                                 reply(std::move(res), std::move(a.hold));
                              });
     });
 }
 
 void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> done) {
-    const auto refuse = [&](int status, const std::string& why) {
-        done(GlbAnswer{status, "text/plain; charset=utf-8", why + "\n", ""});
-    };
+    const auto refuse = [&](int status, const std::string& why) { done(text_answer(status, why)); };
     if (!d.error.empty()) return refuse(d.error.starts_with("no such path") ? 404 : 400, d.error);
     if (tokens_.required() && !tokens_.match(d.token))
         return refuse(401, d.token.empty() ? "this server needs a token (token=T)" : "wrong token");
@@ -247,13 +278,39 @@ void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> 
     const std::string filename = d.surface.substr(0, 12) + level + ".glb";
     const size_t depth = protocol::target_for_keep(d.keep, stored->triangles);
 
+    // Its share of --max-download-mb while it is built: its file's size at the level's share of
+    // the vertices, times the build's copies. A level that can never fit is refused for good,
+    // one that does not fit beside the others' for now.
+    uint64_t components = 0;
+    for (const StoredSurface::FieldRange& f : stored->fields) components += uint64_t(f.components);
+    const uint64_t vertices =
+        stored->triangles ? uint64_t(stored->vertices) * depth / stored->triangles : 0;
+    const uint64_t building = kGlbBuildFactor * glb_file_bytes(vertices, depth, components);
+    const auto mib = [](uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20); };
+    if (building > downloads_->limit()) {
+        ++metrics_.downloads_refused;
+        return refuse(413, "this level's .glb takes about " + mib(building) +
+                               " MiB to build, more than the " + mib(downloads_->limit()) +
+                               " MiB the server allows for downloads (--max-download-mb); ask "
+                               "for a coarser level (a smaller keep)");
+    }
+    std::shared_ptr<DownloadHold> hold = DownloadHold::take(downloads_, building);
+    if (!hold) {
+        ++metrics_.downloads_refused;
+        return refuse(503, "the server is building and sending " + mib(downloads_->held()) +
+                               " MiB of downloads, and this one's " + mib(building) +
+                               " MiB would pass its " + mib(downloads_->limit()) +
+                               " MiB (--max-download-mb); try again later");
+    }
+
     // The download waits for the record as a request does: a computation it shares goes on.
     const std::string waiter = "download/" + std::to_string(next_download_++);
     const CancelFlag cancelled = computations_.wait(key, waiter);
     auto finish = std::make_shared<std::function<void(GlbAnswer)>>(std::move(done));
     const bool queued = compute(kDownloadsClient, [this, params, key, depth, keep = d.keep, options,
                                                    filename, waiter, cancelled,
-                                                   ranges = stored->fields, finish]() mutable {
+                                                   ranges = stored->fields, finish,
+                                                   hold]() mutable {
         GlbAnswer answer;
         try {
             bool computed = false;
@@ -269,26 +326,42 @@ void Service::download_glb(const GlbDownload& d, std::function<void(GlbAnswer)> 
             for (const auto& f : ranges)
                 if (f.name == options.colour_field && f.components == 1)
                     options.colour_range = protocol::ColourRange{f.min, f.max};
-            answer = GlbAnswer{200, "model/gltf-binary", protocol::write_glb(s, options), filename};
+            answer.content_type = "model/gltf-binary";
+            answer.body = protocol::write_glb(s, options);
+            answer.filename = filename;
         } catch (const protocol::GlbError& e) {
-            answer = GlbAnswer{400, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+            answer = text_answer(400, e.what());
         } catch (const InputError& e) { // options the surface cannot take, e.g. an unknown field
-            answer = GlbAnswer{400, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+            answer = text_answer(400, e.what());
         } catch (const std::invalid_argument& e) {
-            answer = GlbAnswer{404, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+            answer = text_answer(404, e.what());
         } catch (const std::exception& e) {
             spdlog::warn("GET {}.glb: {}", loggable(params.surface), loggable(e.what()));
-            answer = GlbAnswer{422, "text/plain; charset=utf-8", std::string(e.what()) + "\n", ""};
+            answer = text_answer(422, e.what());
         }
+        // Until it is sent, the download holds its file (more than estimated when the level
+        // stopped short of its target: then it must fit beside the others, or it is not sent).
+        if (answer.status == 200 && !hold->resize(answer.body.size())) {
+            ++metrics_.downloads_refused;
+            answer = text_answer(503, "the level's .glb of " +
+                                          std::to_string((answer.body.size() >> 20) + 1) +
+                                          " MiB does not fit beside the downloads being sent "
+                                          "(--max-download-mb); try again later");
+        }
+        if (answer.status == 200) answer.hold = hold;
+        hold.reset(); // an error's share goes at once
         boost::asio::post(io_, [this, key, waiter, finish, answer = std::move(answer)]() mutable {
             computations_.leave(key, waiter);
-            (*finish)(std::move(answer));
+            // The callback holds the HTTP session (and its place among the clients): it is let
+            // go here, on the network thread, whichever thread drops `finish` last.
+            auto reply = std::move(*finish);
+            *finish = nullptr;
+            reply(std::move(answer));
         });
     });
     if (!queued) {
         computations_.leave(key, waiter);
-        (*finish)(GlbAnswer{503, "text/plain; charset=utf-8",
-                            "too many downloads waiting; try again later\n", ""});
+        (*finish)(text_answer(503, "too many downloads waiting; try again later"));
     }
 }
 

@@ -74,27 +74,42 @@ private:
             if (r->later) {
                 // The session (and its place among the clients) lives until the reply.
                 return r->later(request_, std::move(res),
-                                [self = this->shared_from_this()](HttpResponse later) {
+                                [self = this->shared_from_this()](
+                                    HttpResponse later, std::shared_ptr<const void> hold) {
                                     auto& stream = beast::get_lowest_layer(self->stream_);
                                     asio::post(stream.get_executor(),
-                                               [self, later = std::move(later)]() mutable {
-                                                   self->send(std::move(later));
+                                               [self, later = std::move(later),
+                                                hold = std::move(hold)]() mutable {
+                                                   self->send(std::move(later), std::move(hold));
                                                });
                                 });
             }
             r->now(request_, res);
         } else {
             serve_web_file(service_.config().web_dir, target, res);
+            // A file's bytes count with the downloads (--max-download-mb) until they are written.
+            if (auto hold = DownloadHold::take(service_.downloads(), res.body().size()))
+                return send(std::move(res), std::move(hold));
+            ++service_.metrics().downloads_refused;
+            res = HttpResponse{http::status::service_unavailable, request_.version()};
+            res.set(http::field::server, service_.server_name());
+            res.set(http::field::content_type, "text/plain; charset=utf-8");
+            res.set(http::field::retry_after, "10");
+            res.keep_alive(request_.keep_alive());
+            res.body() = "the server is sending as many downloads as it may (--max-download-mb); "
+                         "try again later\n";
         }
         send(std::move(res));
     }
 
-    void send(HttpResponse res) {
+    // `hold`: kept until the response is written (what its body is counted in).
+    void send(HttpResponse res, std::shared_ptr<const void> hold = nullptr) {
         res.prepare_payload();
         auto shared = std::make_shared<HttpResponse>(std::move(res));
         beast::get_lowest_layer(stream_).expires_after(timeouts().send);
         http::async_write(stream_, *shared,
-                          [self = this->shared_from_this(), shared](beast::error_code ec, size_t) {
+                          [self = this->shared_from_this(), shared,
+                           hold = std::move(hold)](beast::error_code ec, size_t) {
                               if (ec || !shared->keep_alive()) return self->close();
                               self->read();
                           });

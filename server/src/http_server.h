@@ -22,8 +22,9 @@ using HttpRequest = boost::beast::http::request<boost::beast::http::string_body>
 using HttpResponse = boost::beast::http::response<boost::beast::http::string_body>;
 // Fills the response (status 200 and keep-alive are set already) for a GET or HEAD.
 using HttpHandler = std::function<void(const HttpRequest&, HttpResponse&)>;
-// Sends a response that was made later (callable once, from any thread).
-using HttpReply = std::function<void(HttpResponse)>;
+// Sends a response that was made later (callable once, from any thread). `hold` is kept until
+// the response is written (or the connection is gone): what the body's bytes are counted in.
+using HttpReply = std::function<void(HttpResponse, std::shared_ptr<const void> hold)>;
 // Starts a GET or HEAD that is answered later: it gets the response to fill (status 200 and
 // keep-alive set) and the reply to send it with. The connection waits for the reply.
 using HttpLaterHandler = std::function<void(const HttpRequest&, HttpResponse, HttpReply)>;

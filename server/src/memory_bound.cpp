@@ -36,6 +36,8 @@ MemoryBound memory_bound(const Config& c, uint64_t clients) {
     // The frame each connection is reading, its objects, and every send queue together.
     b.parts.emplace_back("connections", C * (uint64_t(c.max_frame_bytes) + kConnectionBytes));
     b.parts.emplace_back("send queues", queues);
+    // HTTP downloads being built and sent: level.glb files, web files.
+    b.parts.emplace_back("downloads", uint64_t(c.max_download_mb) * MiB);
     // Uploads in progress, and each being decoded, checked and written (two copies).
     b.parts.emplace_back("uploads", uint64_t(c.max_upload_mb) * MiB + T * 2 * X);
     // Cached records and levels, and each run in progress.

@@ -100,6 +100,15 @@ std::string Metrics::render(const Snapshot& s) const {
            queue_bytes_peak.load());
     metric("upload_bytes", "gauge", "Bytes of uploads received but not yet stored, all clients.",
            upload_bytes.load());
+    metric("download_bytes", "gauge",
+           "Bytes of HTTP downloads being built and sent: level.glb files (at an estimate while "
+           "built) and web files, all clients.",
+           s.download_bytes);
+    metric("download_limit_bytes", "gauge", "The most they may take (--max-download-mb).",
+           s.download_limit_bytes);
+    metric("downloads_refused_total", "counter",
+           "HTTP downloads refused because they would pass --max-download-mb.",
+           downloads_refused.load());
     metric("quota_refusals_total", "counter",
            "Uploads refused by a token's or session's quota, or the budget of all uploads.",
            quota_refusals.load());

@@ -42,6 +42,7 @@ struct Metrics {
     std::atomic<uint64_t> session_views_skipped{0}; // a newer view came before the job ran
     std::atomic<int64_t> remembered_results{0};     // result keys kept for resuming
     std::atomic<int64_t> remembered_bytes{0};
+    std::atomic<uint64_t> downloads_refused{0}; // HTTP downloads over --max-download-mb
     // The most clients can make the server hold beyond its size at rest (memory_bound.h).
     std::atomic<int64_t> memory_bound{0};
 
@@ -57,6 +58,7 @@ struct Metrics {
         size_t cache_hits = 0, cache_misses = 0, cache_bytes = 0, cache_entries = 0;
         size_t computations = 0, evictions = 0;
         size_t speculations_pending = 0; // the scheduler's background work, waiting or running
+        size_t download_bytes = 0, download_limit_bytes = 0; // .glb downloads (glb_download.h)
     };
     std::string render(const Snapshot& s) const;
 

@@ -61,7 +61,8 @@ Service::Service(asio::io_context& io, const Config& config)
       reductions_(store_, cache_, metrics_, cores()), sessions_(config.max_sessions),
       scheduler_(config.threads, io.get_executor(),
                  kMaxRequestsPerConnection + kMaxUploadsPerConnection + kMaxSessionsPerConnection),
-      known_results_(config.max_remembered_kb << 10) {
+      known_results_(config.max_remembered_kb << 10),
+      downloads_(std::make_shared<DownloadBudget>(uint64_t(config.max_download_mb) << 20)) {
     if (config.threads > 0) preview_pool_.emplace(1);
     load_sample();
 }
@@ -139,6 +140,7 @@ std::string Service::metrics_text() {
     s.cache_hits = cs.hits, s.cache_misses = cs.misses, s.cache_bytes = cs.bytes;
     s.cache_entries = cs.entries, s.computations = cs.computations, s.evictions = cs.evictions;
     s.speculations_pending = scheduler_.background();
+    s.download_bytes = downloads_->held(), s.download_limit_bytes = downloads_->limit();
     return metrics_.render(s);
 }
 

@@ -70,6 +70,8 @@ public:
     void leave(Connection& c, const std::string& name);
     void set_state(std::shared_ptr<Connection> c, const v1::SetSessionState& change);
 
+    // What HTTP downloads (level.glb files, web files) being built and sent hold: any thread.
+    const std::shared_ptr<DownloadBudget>& downloads() const { return downloads_; }
     // GET /surfaces/ID/level.glb (glb_download.cpp): `done` is called on the network thread.
     void download_glb(const GlbDownload& download, std::function<void(GlbAnswer)> done);
 
@@ -150,6 +152,9 @@ private:
     // All downloads take turns with the clients as this one client (connections count from 1).
     static constexpr uint64_t kDownloadsClient = ~uint64_t(0);
     uint64_t next_download_ = 1;
+    // The .glb files being built and sent (--max-download-mb); shared with their holds, which
+    // may outlive the Service in handlers destroyed with the io_context.
+    std::shared_ptr<DownloadBudget> downloads_;
     bool stopping_ = false;
 };
 
