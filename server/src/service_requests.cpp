@@ -7,6 +7,7 @@
 #include "service.h"
 
 #include "client_limits.h"
+#include "log_text.h"
 #include "previews.h"
 
 #include "ddsimp/protocol/reduction_options.h"
@@ -393,7 +394,7 @@ void Service::send_preview(const std::shared_ptr<RequestJob>& job) {
             begin.set_surface(job->params.surface);
             begin.set_preview(true);
         } catch (const std::exception& e) {
-            spdlog::warn("no preview for request {}: {}", job->request_id, e.what());
+            spdlog::warn("no preview for request {}: {}", job->request_id, loggable(e.what(), 300));
             return;
         }
         asio::post(io_, [this, job, begin = std::move(begin), blob = std::move(blob)] {
