@@ -292,11 +292,15 @@ TEST(HostileQueues, TheClientWhoseLevelWouldPassTheTotalQueueIsDropped) {
     stalled.socket().set_option(boost::asio::socket_base::receive_buffer_size(4096));
     stalled.hello({});
     stalled.send(level_request(id, {1.0f, 0.99f, 0.98f}, 1));
-    // All three are queued once its job has ended; what loopback's buffers took is not queued.
+    // All three are queued once its job has ended (seen after its first level was queued); what
+    // loopback's buffers took is not queued.
     double held = 0;
     for (int i = 0; i < 1200; ++i) {
-        held = metric(server.http_port, "ddsimp_queue_bytes");
-        if (held > 0 && metric(server.http_port, "ddsimp_request_jobs") == 0) break;
+        if (metric(server.http_port, "ddsimp_queue_bytes") > 0 &&
+            metric(server.http_port, "ddsimp_request_jobs") == 0) {
+            held = metric(server.http_port, "ddsimp_queue_bytes");
+            break;
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
     EXPECT_EQ(metric(server.http_port, "ddsimp_request_jobs"), 0);
