@@ -57,7 +57,7 @@ TEST(MemoryBound, TheServerStatesItsTotalAndStaysWithinIt) {
                                                     "--handshake-timeout",
                                                     "30",
                                                     "--idle-timeout",
-                                                    "60"});
+                                                    "600"});
     const auto m = [&](const std::string& name) { return metric(server.http_port, name); };
     const double clients = m("ddsimp_sockets_limit");
     EXPECT_EQ(clients, 48);
