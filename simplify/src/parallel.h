@@ -7,8 +7,9 @@
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/task_group.h>
+#include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/task_arena.h>
+#include <oneapi/tbb/task_group.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -21,8 +22,7 @@ class Parallel {
 public:
     // threads == 0: every hardware thread.
     explicit Parallel(int threads)
-        : threads_(threads > 0 ? threads
-                               : int(std::max(1u, std::thread::hardware_concurrency()))),
+        : threads_(threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()))),
           arena_(threads_) {}
     int threads() const { return threads_; }
 
@@ -41,19 +41,29 @@ public:
         return;
 #endif
         arena_.execute([&] {
-            oneapi::tbb::parallel_for(oneapi::tbb::blocked_range<size_t>(0, n, grain),
-                                      [&](const oneapi::tbb::blocked_range<size_t>& r) {
-                                          f(r.begin(), r.end());
-                                      });
+            oneapi::tbb::parallel_for(
+                oneapi::tbb::blocked_range<size_t>(0, n, grain),
+                [&](const oneapi::tbb::blocked_range<size_t>& r) { f(r.begin(), r.end()); });
         });
     }
     // f(i) for every i in [0, n).
     template <class F> void for_each(size_t n, F&& f, size_t grain = 256) {
         for_range(
-            n, [&](size_t begin, size_t end) {
+            n,
+            [&](size_t begin, size_t end) {
                 for (size_t i = begin; i < end; ++i) f(i);
             },
             grain);
+    }
+
+    // Sorts [begin, end) of distinct values, so that the result is the one order.
+    template <class It> void sort(It begin, It end) {
+#if defined(__SANITIZE_THREAD__)
+        std::sort(begin, end);
+        return;
+#endif
+        if (threads_ <= 1) return std::sort(begin, end);
+        arena_.execute([&] { oneapi::tbb::parallel_sort(begin, end); });
     }
 
     // produce() on the calling thread while every other thread runs consume(), then consume() on
@@ -84,10 +94,13 @@ public:
     // f(begin, end, piece) over [0, n) in pieces(n) pieces, one per thread, numbered in order:
     // for a gather that scans all of its input and keeps what falls in its piece, so that each
     // index sums its terms in input order, or for lists that are joined in piece order.
-    size_t pieces(size_t n) const { return std::min(n, size_t(threads_)); }
+    size_t pieces(size_t n) const {
+        return std::min(n, size_t(threads_));
+    }
     template <class F> void for_pieces(size_t n, F&& f) {
         const size_t count = pieces(n);
-        for_each(count, [&](size_t i) { f(i * n / count, (i + 1) * n / count, i); }, 1);
+        for_each(
+            count, [&](size_t i) { f(i * n / count, (i + 1) * n / count, i); }, 1);
     }
 
 private:

@@ -4,6 +4,8 @@
 // Simplifier::run_pass).
 #pragma once
 
+#include "parallel.h"
+
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -52,8 +54,10 @@ inline uint32_t digit(const Candidate& c, int d) {
 
 // Sorts `items`, which come in id order, by key, then by id: stable counting passes over the
 // key's 12-bit digits, lowest first (a digit on which all items agree is skipped); a comparison
-// sort for a few items. `scratch` is reused between calls.
-template <class Vector> void sort_candidates(Vector& items, Vector& scratch) {
+// sort for a few items. Each piece of the items is counted and scattered on its own thread, into
+// places that follow the pieces before it for every digit value, so the order is a serial sort's
+// on any number of threads. `scratch` is reused between calls.
+template <class Vector> void sort_candidates(Vector& items, Vector& scratch, Parallel& parallel) {
     const size_t n = items.size();
     if (n < kDigitValues) {
         std::sort(items.begin(), items.end(), [](const Candidate& a, const Candidate& b) {
@@ -62,19 +66,49 @@ template <class Vector> void sort_candidates(Vector& items, Vector& scratch) {
         return;
     }
     scratch.resize(n);
-    std::vector<uint32_t> count(kKeyDigits * kDigitValues, 0);
-    for (const Candidate& c : items)
-        for (int d = 0; d < kKeyDigits; ++d) ++count[d * kDigitValues + digit(c, d)];
+    // A piece is worth a thread from as many items as there are digit values.
+    const size_t pieces = parallel.pieces(n / kDigitValues);
+    auto begin_of = [&](size_t p) { return p * n / pieces; };
+    // count[p * kKeyDigits * kDigitValues + d * kDigitValues + value]: piece p's items with
+    // digit d = value; for the digit being sorted, where piece p's next such item goes.
+    std::vector<uint32_t> count(pieces * kKeyDigits * kDigitValues, 0);
+    auto counts = [&](size_t p, int d) { return &count[(p * kKeyDigits + d) * kDigitValues]; };
+    parallel.for_each(
+        pieces,
+        [&](size_t p) {
+            for (size_t i = begin_of(p); i < begin_of(p + 1); ++i)
+                for (int d = 0; d < kKeyDigits; ++d) ++counts(p, d)[digit(items[i], d)];
+        },
+        1);
     for (int d = 0; d < kKeyDigits; ++d) {
-        uint32_t* bucket = &count[d * kDigitValues];
-        if (bucket[digit(items[0], d)] == n) continue; // one value: no change
+        const uint32_t first = digit(items[0], d);
+        size_t same = 0;
+        for (size_t p = 0; p < pieces; ++p) same += counts(p, d)[first];
+        if (same == n) continue; // one value: no change
+        if (d > 0 && pieces > 1) // the pieces hold other items since the last digit's pass
+            parallel.for_each(
+                pieces,
+                [&](size_t p) {
+                    uint32_t* c = counts(p, d);
+                    std::fill(c, c + kDigitValues, 0);
+                    for (size_t i = begin_of(p); i < begin_of(p + 1); ++i) ++c[digit(items[i], d)];
+                },
+                1);
         uint32_t sum = 0;
-        for (size_t b = 0; b < kDigitValues; ++b) {
-            const uint32_t c = bucket[b];
-            bucket[b] = sum;
-            sum += c;
-        }
-        for (const Candidate& c : items) scratch[bucket[digit(c, d)]++] = c;
+        for (size_t b = 0; b < kDigitValues; ++b)
+            for (size_t p = 0; p < pieces; ++p) {
+                const uint32_t c = counts(p, d)[b];
+                counts(p, d)[b] = sum;
+                sum += c;
+            }
+        parallel.for_each(
+            pieces,
+            [&](size_t p) {
+                uint32_t* next = counts(p, d);
+                for (size_t i = begin_of(p); i < begin_of(p + 1); ++i)
+                    scratch[next[digit(items[i], d)]++] = items[i];
+            },
+            1);
         items.swap(scratch);
     }
 }
@@ -86,6 +120,11 @@ template <class Vector> void sort_candidates(Vector& items, Vector& scratch) {
 class LightestShare {
 public:
     void add(const Candidate& c) { ++histogram_[digit(c, kKeyDigits - 1)], ++total_; }
+    // Counts what `other` counted too.
+    void add(const LightestShare& other) {
+        for (size_t b = 0; b < kDigitValues; ++b) histogram_[b] += other.histogram_[b];
+        total_ += other.total_;
+    }
     size_t total() const { return total_; }
     void bound(size_t count) {
         last_ = uint32_t(kDigitValues - 1);

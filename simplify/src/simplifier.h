@@ -106,9 +106,22 @@ private:
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
     // Reserves the record's per-operation arrays for the most operations a run to `target` takes.
     void reserve_record(size_t target);
-    // The next pass: the number of candidates it selects from into `share`, and at least that
-    // many of the lightest candidates, sorted lightest first, into order_. False: cancelled.
+    struct Member; // of the pool of candidates (below)
+    // rank.cpp: the next pass: the number of candidates it selects from into `share`, and at
+    // least that many of the lightest candidates, sorted lightest first, into order_. False:
+    // cancelled.
     bool rank_candidates(size_t& share);
+    // What pool member m is this pass (kDeadMember, kLiveMember or kCandidate), with its key
+    // computed again if what it reads changed; writes only m and its id's flags.
+    uint8_t rank_member(Member& m);
+    // Drops the dead of `members` (statuses in `status`), keeping the order, and counts the
+    // candidates' keys into `lightest`; returns how many are left.
+    size_t drop_dead(detail::Array<Member>& members, detail::Array<uint8_t>& status,
+                     detail::LightestShare& lightest);
+    // Merges born_members_ (in id order) into the pool, in id order.
+    void merge_born();
+    // The pool's candidates that `lightest` keeps, in id order, into order_.
+    void collect_lightest(const detail::LightestShare& lightest);
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
     // Selection rounds per pass (see run_pass).
@@ -193,7 +206,6 @@ private:
     void apply_collapse(const CollapsePlan& plan, size_t index);
     // What checking a selected candidate on the untouched surface found.
     enum class Check : uint8_t { Refused, Waits, Taken };
-    struct Member;
     Check check_collapse(Member& candidate, CollapsePlan& plan);
     // The new edges of the collapses' new vertices news_[0..count) join the pool (born_).
     void list_new_edges(size_t count);
@@ -256,9 +268,13 @@ private:
     // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
     // so they are in id order too.
     detail::Array<Member> pool_;
-    // rank_candidates' scratch: what each pool member is this pass.
+    // rank_candidates' scratch: what each pool member is this pass; the members born since the
+    // last pass with theirs; the members merge_born sets aside with theirs.
     static constexpr uint8_t kDeadMember = 0, kLiveMember = 1, kCandidate = 2;
-    detail::Array<uint8_t> status_;
+    detail::Array<uint8_t> status_, born_status_;
+    detail::Array<Member> born_members_;
+    std::vector<Member> aside_;
+    std::vector<uint8_t> aside_status_;
     std::vector<uint32_t> born_;
     std::vector<std::vector<uint32_t>> born_pieces_; // list_new_edges' lists, one per thread
     detail::Array<uint8_t> listed_;

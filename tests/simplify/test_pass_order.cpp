@@ -29,28 +29,33 @@ bool lighter(const Candidate& a, const Candidate& b) {
 }
 
 TEST(PassOrder, LightestShareSortedEqualsAComparisonSort) {
-    // Few candidates (comparison sort), many (counting passes), few and many distinct keys, and
-    // shares from one candidate to all of them.
-    for (size_t n : {100u, 5000u, 200000u})
-        for (uint32_t distinct : {3u, 1000u, 1u << 30})
-            for (double share : {0.0, 0.25, 1.0}) {
-                const std::vector<Candidate> input = random_candidates(n, distinct, uint32_t(n));
-                std::vector<Candidate> want = input;
-                std::sort(want.begin(), want.end(), lighter);
-                const size_t count = std::max<size_t>(1, size_t(share * double(n)));
-                LightestShare lightest;
-                for (const Candidate& c : input) lightest.add(c);
-                lightest.bound(count);
-                std::vector<Candidate> got, scratch;
-                for (const Candidate& c : input)
-                    if (lightest.keeps(c)) got.push_back(c);
-                sort_candidates(got, scratch);
-                ASSERT_GE(got.size(), count);
-                for (size_t i = 0; i < count; ++i) {
-                    ASSERT_EQ(got[i].id, want[i].id) << "n " << n << ", at " << i;
-                    ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
+    // Few candidates (comparison sort), many (counting passes), few and many distinct keys,
+    // shares from one candidate to all of them, and the counting passes in one piece or in
+    // several on threads.
+    for (int threads : {1, 3})
+        for (size_t n : {100u, 5000u, 200000u})
+            for (uint32_t distinct : {3u, 1000u, 1u << 30})
+                for (double share : {0.0, 0.25, 1.0}) {
+                    const std::vector<Candidate> input =
+                        random_candidates(n, distinct, uint32_t(n));
+                    std::vector<Candidate> want = input;
+                    std::sort(want.begin(), want.end(), lighter);
+                    const size_t count = std::max<size_t>(1, size_t(share * double(n)));
+                    LightestShare lightest;
+                    for (const Candidate& c : input) lightest.add(c);
+                    lightest.bound(count);
+                    std::vector<Candidate> got, scratch;
+                    for (const Candidate& c : input)
+                        if (lightest.keeps(c)) got.push_back(c);
+                    Parallel parallel(threads);
+                    sort_candidates(got, scratch, parallel);
+                    ASSERT_GE(got.size(), count);
+                    for (size_t i = 0; i < count; ++i) {
+                        ASSERT_EQ(got[i].id, want[i].id)
+                            << threads << " threads, n " << n << ", at " << i;
+                        ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
+                    }
                 }
-            }
 }
 
 TEST(PassOrder, NegativeZeroAndZeroAreEqualKeys) {
