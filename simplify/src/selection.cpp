@@ -28,7 +28,7 @@ template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) c
                : star(id);
 }
 
-bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
+bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first) {
     selected_.clear();
     blocked_.clear();
     blocked_by_.clear();
@@ -40,6 +40,11 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
     // stage reading what the one before fetched.
     constexpr size_t kAhead = 8;
     auto id_at = [&](size_t j) { return pool_[order_[pending_[j]].id].id; };
+    // Held by an operation taken in an earlier round of this pass (their checks are done).
+    auto taken = [&](const Hold& hold) {
+        return hold.stamp >= pass_stamp && hold.stamp != round_stamp &&
+               checked_[hold.holder] == Check::Taken;
+    };
     struct Over { // the checks beside the walk learn that it is over, however it ends
         Simplifier& s;
         ~Over() { s.publish_selected(true); }
@@ -77,7 +82,7 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
         // Which vertex shows a candidate blocked or out does not change what is selected.
         if (collapse) {
             const Hold& far = busy_[mesh_.dest(id)];
-            if (far.stamp == taken_stamp) continue;
+            if (taken(far)) continue;
             if (far.stamp == round_stamp) {
                 blocked_.push_back(rank), blocked_by_.push_back(far.holder);
                 continue;
@@ -87,13 +92,13 @@ bool Simplifier::select(uint32_t taken_stamp, uint32_t round_stamp) {
         uint32_t blocker = kNone;
         const bool free = walk_neighbourhood(id, [&](uint32_t v) {
             const Hold& hold = busy_[v];
-            if (hold.stamp == taken_stamp || n == kMaxNeighbourhood) return false;
+            if (n == kMaxNeighbourhood || taken(hold)) return false;
             if (hold.stamp == round_stamp) return blocker = hold.holder, false;
             near[n++] = v;
             return true;
         });
         if (free) {
-            const uint32_t holder = uint32_t(selected_.size());
+            const uint32_t holder = uint32_t(first + selected_.size());
             for (size_t i = 0; i < n; ++i) busy_[near[i]] = {round_stamp, holder};
             selected_.push_back(rank);
             publish_selected(false);
@@ -109,10 +114,6 @@ void Simplifier::pend_blocked() {
     pending_.clear();
     for (size_t j = 0; j < blocked_.size(); ++j)
         if (checked_[blocked_by_[j]] != Check::Taken) pending_.push_back(blocked_[j]);
-}
-
-void Simplifier::stamp_neighbourhood(uint32_t id, uint32_t stamp) {
-    walk_neighbourhood(id, [&](uint32_t v) { return busy_[v].stamp = stamp, true; });
 }
 
 } // namespace ddsimp

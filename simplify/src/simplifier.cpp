@@ -260,8 +260,8 @@ void Simplifier::check_published(size_t first, std::atomic<size_t>& claimed,
         if (begin >= end || stopped.load(std::memory_order_relaxed)) return;
         for (size_t i = begin; i < end; ++i) {
             Member& m = pool_[order_[selected_[i]].id];
-            checked_[i] = collapse ? check_collapse(m, plans_[first + i])
-                                   : check_removal(m.id, removals_[first + i]);
+            checked_[first + i] = collapse ? check_collapse(m, plans_[first + i])
+                                           : check_removal(m.id, removals_[first + i]);
         }
         since_progress += end - begin;
         if (calling && since_progress >= kBlock) {
@@ -316,32 +316,27 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         removals_.reserve(share);
     for (uint32_t i = 0; i < share && order_[i].weight() <= options_.max_weight; ++i)
         pending_.push_back(i);
-    const uint32_t taken_stamp = ++stamp_;
+    checked_.clear();
+    const uint32_t pass_stamp = stamp_ + 1; // the first round's
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
         const uint32_t round_stamp = ++stamp_;
-        // Each selected one's plan after the rounds' before it: the taken ones stay where their
-        // check put them until they are applied.
+        // Each selected one's plan and check after the rounds' before it: the taken ones stay
+        // where their check put them until they are applied, and hold their neighbourhoods for
+        // the rest of the pass (see select).
         const size_t first = collapse ? plans_.size() : removals_.size();
         selected_.reserve(pending_.size());
-        checked_.resize(pending_.size());
+        checked_.resize(first + pending_.size());
         published_.store(0, std::memory_order_relaxed);
         std::atomic<size_t> claimed{0};
         std::atomic<bool> stopped{false};
         bool walked = true;
-        parallel_.beside([&] { walked = select(taken_stamp, round_stamp); },
+        parallel_.beside([&] { walked = select(pass_stamp, round_stamp, first); },
                          [&](bool calling) { check_published(first, claimed, stopped, calling); });
         if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
-        const size_t w = selected_.size();
-        // The taken ones keep their neighbourhoods for the rest of the pass (disjoint: one
-        // round's selection).
-        parallel_.for_each(w, [&](size_t i) {
-            if (checked_[i] == Check::Taken)
-                stamp_neighbourhood(pool_[order_[selected_[i]].id].id, taken_stamp);
-        });
         bool freed = false;
-        for (size_t i = 0; i < w; ++i) {
-            if (checked_[i] != Check::Taken) {
+        for (size_t i = 0; i < selected_.size(); ++i) {
+            if (checked_[first + i] != Check::Taken) {
                 freed = true;
                 continue;
             }

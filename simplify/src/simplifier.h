@@ -133,13 +133,14 @@ private:
     template <class F> bool walk_neighbourhood(uint32_t id, F&& visit) const;
     // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
     // in rank order. A candidate whose neighbourhood no candidate selected before it in this
-    // round holds goes into selected_ and holds it (busy_ stamped round_stamp); one that such a
-    // candidate blocks goes into blocked_, with the index in selected_ of the one that blocks it
-    // in blocked_by_; one next to an operation taken this pass (stamped taken_stamp), or larger
-    // than kMaxNeighbourhood, cannot be selected in this pass. False: cancelled.
+    // round holds goes into selected_ and holds it (busy_ stamped round_stamp, its holder index
+    // `first` + its index in selected_); one that such a candidate blocks goes into blocked_,
+    // with the holder index of the one that blocks it in blocked_by_; one next to an operation
+    // taken in an earlier round of this pass (stamped from pass_stamp on, its check Taken), or
+    // larger than kMaxNeighbourhood, cannot be selected in this pass. False: cancelled.
     // Each selected one gets its plan's place at once, and every kCheckBatch of them are
     // published to the checks running beside the walk (see run_pass).
-    bool select(uint32_t taken_stamp, uint32_t round_stamp);
+    bool select(uint32_t pass_stamp, uint32_t round_stamp, size_t first);
     // After the walk selected another one (over: after the walk ended): its plan's place, and
     // the count of selected ones for the checks, with kWalkOver once the walk is over.
     void publish_selected(bool over);
@@ -157,7 +158,6 @@ private:
     // The candidates that the round's refused or waiting ones blocked into pending_: the others
     // are next to a taken operation now.
     void pend_blocked();
-    void stamp_neighbourhood(uint32_t id, uint32_t stamp);
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
     // f(begin, end) over [0, n) on the threads, block by block of kBlock items, with a progress
@@ -280,19 +280,19 @@ private:
     detail::Array<uint8_t> listed_;
     // The pass's lightest, sorted, and the sort's scratch space.
     detail::Array<detail::Candidate> order_, scratch_;
-    // busy_[v]: the stamp of what last reserved v and, for a selection round's stamp, the index
-    // in selected_ of the candidate that holds it. Each pass has a stamp for its taken
-    // operations' neighbourhoods and each selection round one for what it selected (stamp_
-    // counts them), so nothing needs clearing between rounds or passes.
+    // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
+    // checked_ and the plans) of the candidate that holds it. Each round has its own stamp
+    // (stamp_ counts them), so nothing needs clearing between rounds or passes, and what a taken
+    // operation holds stays held for the rest of its pass.
     struct Hold {
         uint32_t stamp, holder;
     };
     detail::Array<Hold> busy_;
     uint32_t stamp_ = 0;
     // A pass's candidates still in its selection, those a round selected (ranks in order_,
-    // ascending), those it blocked with the index in selected_ of one that blocked each (see
-    // select), what each selected one's check found, and the plans of every round's selected
-    // ones in selection order (what a taken one's operation needs when applied).
+    // ascending), those it blocked with the holder index of one that blocked each (see select),
+    // and what each of the pass's selected ones' check found and its plan, in selection order
+    // over the rounds (what a taken one's operation needs when applied).
     std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
     detail::Array<CollapsePlan> plans_;
