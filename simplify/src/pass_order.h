@@ -27,6 +27,7 @@ struct Key {
 struct Candidate {
     uint64_t order;
     uint32_t id;
+    uint32_t item; // what the candidate is (an edge or a vertex), where id says where it is
 
     static uint32_t bits(float f) {
         f += 0.0f; // -0 -> +0
@@ -34,8 +35,8 @@ struct Candidate {
         std::memcpy(&u, &f, sizeof u);
         return u & 0x80000000u ? ~u : u | 0x80000000u;
     }
-    static Candidate make(const Key& k, uint32_t id) {
-        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id};
+    static Candidate make(const Key& k, uint32_t id, uint32_t item = 0) {
+        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id, item};
     }
     float weight() const {
         uint32_t u = uint32_t(order >> 16);

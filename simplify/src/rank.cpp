@@ -161,7 +161,8 @@ void Simplifier::collect_lightest(const detail::LightestShare& lightest) {
         [&](size_t p) {
             size_t k = at[p];
             for (size_t i = p * n / pieces; i < (p + 1) * n / pieces; ++i)
-                if (kept(i)) order_[k++] = detail::Candidate::make(pool_[i].key, uint32_t(i));
+                if (kept(i))
+                    order_[k++] = detail::Candidate::make(pool_[i].key, uint32_t(i), pool_[i].id);
         },
         1);
 }

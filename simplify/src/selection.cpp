@@ -35,11 +35,11 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     uint32_t near[kMaxNeighbourhood];
     const size_t count = pending_.size();
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
-    // The walk's loads depend on one another (the member, its edge's ends, their records), each
-    // a miss in a large surface; so the candidates ahead are fetched a stage at a time, each
+    // The walk's loads depend on one another (the candidate's edge, its ends, their records),
+    // each a miss in a large surface; so the candidates ahead are fetched a stage at a time, each
     // stage reading what the one before fetched.
     constexpr size_t kAhead = 8;
-    auto id_at = [&](size_t j) { return pool_[order_[pending_[j]].id].id; };
+    auto id_at = [&](size_t j) { return order_[pending_[j]].item; };
     // Held by an operation taken in an earlier round of this pass (their checks are done).
     auto taken = [&](const Hold& hold) {
         return hold.stamp >= pass_stamp && hold.stamp != round_stamp &&
@@ -51,7 +51,6 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     } over{*this};
     for (size_t j = 0; j < count; ++j) {
         if (j > 0 && j % kBlock == 0 && !checkpoint()) return false;
-        if (j + 3 * kAhead < count) __builtin_prefetch(&pool_[order_[pending_[j + 3 * kAhead]].id]);
         if (j + 2 * kAhead < count) {
             const uint32_t id = id_at(j + 2 * kAhead);
             __builtin_prefetch(collapse ? &mesh_.origin[id] : &mesh_.out[id]);
