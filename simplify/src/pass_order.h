@@ -121,6 +121,8 @@ template <class Vector> void sort_candidates(Vector& items, Vector& scratch, Par
 class LightestShare {
 public:
     void add(const Candidate& c) { ++histogram_[digit(c, kKeyDigits - 1)], ++total_; }
+    // The same for the candidate that `key` makes, from the weight alone (the top digit's).
+    void add(const Key& key) { ++histogram_[top_digit(key)], ++total_; }
     // Counts what `other` counted too.
     void add(const LightestShare& other) {
         for (size_t b = 0; b < kDigitValues; ++b) histogram_[b] += other.histogram_[b];
@@ -134,8 +136,13 @@ public:
         for (size_t sum = 0; sum + histogram_[last_] < count;) sum += histogram_[last_++];
     }
     bool keeps(const Candidate& c) const { return digit(c, kKeyDigits - 1) <= last_; }
+    bool keeps(const Key& key) const { return top_digit(key) <= last_; }
 
 private:
+    static_assert(kKeyDigits * kDigitBits == 48, "the weight's 32 bits are the key's top bits");
+    static uint32_t top_digit(const Key& key) {
+        return Candidate::bits(key.weight) >> (32 - kDigitBits);
+    }
     std::vector<uint32_t> histogram_ = std::vector<uint32_t>(kDigitValues, 0);
     size_t total_ = 0;
     uint32_t last_ = 0;

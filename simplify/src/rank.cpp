@@ -56,8 +56,7 @@ size_t Simplifier::drop_dead(detail::Array<Member>& members, detail::Array<uint8
             size_t k = begin;
             for (size_t i = begin; i < end; ++i) {
                 if (status[i] == kDeadMember) continue;
-                if (status[i] == kCandidate)
-                    shares[p].add(detail::Candidate::make(members[i].key, 0));
+                if (status[i] == kCandidate) shares[p].add(members[i].key);
                 status[k] = status[i];
                 members[k++] = members[i];
             }
@@ -141,10 +140,7 @@ void Simplifier::merge_born() {
 void Simplifier::collect_lightest(const detail::LightestShare& lightest) {
     // Counted per piece, then each piece written after the ones before it.
     const size_t n = pool_.size(), pieces = pieces_of(parallel_, n);
-    auto kept = [&](size_t i) {
-        return status_[i] == kCandidate &&
-               lightest.keeps(detail::Candidate::make(pool_[i].key, uint32_t(i)));
-    };
+    auto kept = [&](size_t i) { return status_[i] == kCandidate && lightest.keeps(pool_[i].key); };
     std::vector<size_t> at(pieces + 1, 0);
     parallel_.for_each(
         pieces,

@@ -58,6 +58,24 @@ TEST(PassOrder, LightestShareSortedEqualsAComparisonSort) {
                 }
 }
 
+TEST(PassOrder, TheShareOfKeysIsTheShareOfTheirCandidates) {
+    // The ranking counts and keeps keys by their weight alone: the same as their candidates.
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> weight(-2.0f, 1e6f), tie(0.0f, 10.0f);
+    std::vector<Key> keys(50000);
+    for (Key& k : keys) k = {random() % 5 == 0 ? 0.0f : weight(random), tie(random)};
+    LightestShare by_key, by_candidate;
+    for (const Key& k : keys) by_key.add(k), by_candidate.add(Candidate::make(k, 0));
+    by_key.bound(keys.size() / 4), by_candidate.bound(keys.size() / 4);
+    size_t kept = 0;
+    for (const Key& k : keys) {
+        ASSERT_EQ(by_key.keeps(k), by_candidate.keeps(Candidate::make(k, 0)));
+        kept += by_key.keeps(k);
+    }
+    EXPECT_GE(kept, keys.size() / 4);
+    EXPECT_LT(kept, keys.size());
+}
+
 TEST(PassOrder, NegativeZeroAndZeroAreEqualKeys) {
     EXPECT_EQ(Candidate::make({-0.0f, 1}, 0).order, Candidate::make({0.0f, 1}, 0).order);
     EXPECT_LT(Candidate::make({-1.0f, 0}, 0).order, Candidate::make({0.0f, 0}, 0).order);
