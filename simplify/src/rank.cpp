@@ -114,24 +114,22 @@ void Simplifier::merge_born() {
             const size_t begin = p * n / pieces;
             const size_t j0 = first_born[p], i0 = begin - j0;
             size_t k = (p + 1) * n / pieces, j = first_born[p + 1], i = k - j;
-            auto at = [&](size_t x) -> size_t { return x < i0 + j0 ? aside_at[p] + x - i0 : x; };
-            auto from_aside = [&](size_t x) { return x < i0 + j0 && p > 0; };
+            // Pool member x of this piece, and its status: set aside below `begin`.
+            auto member = [&](size_t x) -> const Member& {
+                return x < begin ? aside_[aside_at[p] + x - i0] : pool_[x];
+            };
+            auto status = [&](size_t x) {
+                return x < begin ? aside_status_[aside_at[p] + x - i0] : status_[x];
+            };
             while (k > begin) {
                 --k;
-                if (j > j0) {
-                    const uint32_t pool_id =
-                        i == i0 ? 0 : (from_aside(i - 1) ? aside_[at(i - 1)] : pool_[i - 1]).id;
-                    if (i == i0 || born_members_[j - 1].id > pool_id) {
-                        --j;
-                        pool_[k] = born_members_[j], status_[k] = born_status_[j];
-                        continue;
-                    }
+                if (j > j0 && (i == i0 || born_members_[j - 1].id > member(i - 1).id)) {
+                    --j;
+                    pool_[k] = born_members_[j], status_[k] = born_status_[j];
+                } else {
+                    --i;
+                    status_[k] = status(i), pool_[k] = member(i);
                 }
-                --i;
-                if (from_aside(i))
-                    pool_[k] = aside_[at(i)], status_[k] = aside_status_[at(i)];
-                else
-                    pool_[k] = pool_[i], status_[k] = status_[i];
             }
         },
         1);
