@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # Install what is missing, build everything, run every test (ctest): as released (build/release),
 # the ParaView plugin (the paraview preset, build/paraview: it builds alone against ParaView's own
-# VTK), then the release suite under AddressSanitizer + UBSan (the asan preset, build/asan). This
-# is what CI runs (.ci/run).
-#   scripts/test.sh --release-only   the release build, the plugin and their tests (no ASan)
+# VTK), then the release suite under AddressSanitizer + UBSan (the asan preset, build/asan), then
+# the threaded engine's tests and the command line's under ThreadSanitizer (the tsan-engine
+# presets, build/tsan). This is what CI runs (.ci/run).
+#   scripts/test.sh --release-only   the release build, the plugin and their tests (no sanitizers)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-asan=true
+sanitizers=true
 case "${1:-}" in
 "") ;;
---release-only) asan=false ;;
+--release-only) sanitizers=false ;;
 *)
     echo "usage: scripts/test.sh [--release-only]" >&2
     exit 2
@@ -26,8 +27,12 @@ cmake --preset paraview >/dev/null
 cmake --build --preset paraview
 ctest --preset paraview -j 2
 
-if $asan; then
+if $sanitizers; then
     cmake --preset asan >/dev/null
     cmake --build --preset asan
     ctest --preset asan -j 2
+
+    cmake --preset tsan >/dev/null
+    cmake --build --preset tsan-engine
+    ctest --preset tsan-engine -j 2
 fi
