@@ -4,6 +4,7 @@
 // joined in order: the same pool and the same order on any number of threads.
 #include "simplifier.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace ddsimp {
@@ -161,6 +162,14 @@ void Simplifier::collect_lightest(const detail::LightestShare& lightest) {
         1);
 }
 
+double Simplifier::pass_share() const {
+    // The last operations set a coarse level's error, so they are ranked more finely; the share
+    // reads only the surface, never the target, so a run stays a prefix of any longer one.
+    const double left =
+        double(mesh_.live_triangles) / double(std::max<size_t>(1, record_.triangles_in_));
+    return std::clamp(kPassShare * left / kFineBelow, kFinestShare, kPassShare);
+}
+
 bool Simplifier::rank_candidates(size_t& share) {
     // Every member of the pool, and every one born since the last pass, side by side: whether it
     // is live, and whether it is a candidate, with its key. Each writes only its own member and
@@ -188,7 +197,7 @@ bool Simplifier::rank_candidates(size_t& share) {
     merge_born();
     share = lightest.total() == 0
                 ? 0
-                : std::max<size_t>(1, size_t(std::ceil(kPassShare * double(lightest.total()))));
+                : std::max<size_t>(1, size_t(std::ceil(pass_share() * double(lightest.total()))));
     lightest.bound(share);
     collect_lightest(lightest);
     detail::sort_candidates(order_, scratch_, parallel_);

@@ -87,8 +87,12 @@ private:
         double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
     };
 
-    // The share of a pass's candidates, lightest first, that the pass selects from.
+    // The share of a pass's candidates, lightest first, that the pass selects from (pass_share):
+    // kPassShare while at least kFineBelow of the input's triangles are left, then in proportion
+    // to what is left, down to kFinestShare.
     static constexpr double kPassShare = 0.25;
+    static constexpr double kFineBelow = 0.5;
+    static constexpr double kFinestShare = 0.03;
     // Items of a parallel stage between two progress calls (see checkpoint).
     static constexpr size_t kBlock = 8192;
 
@@ -111,6 +115,8 @@ private:
     // least that many of the lightest candidates, sorted lightest first, into order_. False:
     // cancelled.
     bool rank_candidates(size_t& share);
+    // The fraction of the candidates the next pass selects from; reads only the surface's size.
+    double pass_share() const;
     // What pool member m is this pass (kDeadMember, kLiveMember or kCandidate), with its key
     // computed again if what it reads changed; writes only m and its id's flags.
     uint8_t rank_member(Member& m);
