@@ -164,9 +164,9 @@ void Simplifier::collect_lightest(const detail::LightestShare& lightest) {
 
 double Simplifier::pass_share() const {
     // The last operations set a coarse level's error, so they are ranked more finely; the share
-    // reads only the surface, never the target, so a run stays a prefix of any longer one.
-    const double left =
-        double(mesh_.live_triangles) / double(std::max<size_t>(1, record_.triangles_in_));
+    // reads only the surface, never the target, so a run stays a prefix of any longer one. Only
+    // a pass with candidates asks, so the input has triangles.
+    const double left = double(mesh_.live_triangles) / double(record_.triangles_in_);
     return std::clamp(kPassShare * left / kFineBelow, kFinestShare, kPassShare);
 }
 
