@@ -356,11 +356,12 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     const uint32_t entry_y = ht != kNone ? apex_entry(next(ht)) : kNone;
 
     // The two outer edges of each removed triangle become one edge.
+    // Either half of the merged edge may have been an edge's id, and the lower one is now.
     auto merge = [&](uint32_t e1, uint32_t e2) {
         const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
         const uint8_t l = m.line[e1] | m.line[e2];
-        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l;
-        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l;
+        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l, mark_stale(o1), mark_rekey(o1);
+        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l, mark_stale(o2), mark_rekey(o2);
     };
     merge(next(h), prev(h));
     if (ht != kNone) merge(next(ht), prev(ht));
@@ -369,6 +370,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
         if (t == kNone) continue;
         for (uint32_t c = 0; c < 3; ++c) {
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
+            mark_stale(3 * t + c); // its place in the order goes, if it had one
         }
     }
 
@@ -415,22 +417,23 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     refresh_around(changed, k + 1, kept_from);
 }
 
-Simplifier::Check Simplifier::check_collapse(Member& candidate, CollapsePlan& plan) {
-    const uint32_t h = candidate.id;
+Simplifier::Check Simplifier::check_collapse(uint32_t h, float weight, CollapsePlan& plan) {
     if (plan_collapse(h, plan)) {
         // Its key left the retraction out (too costly for every key): if that makes it heavier
         // than the share the pass goes through, it waits for the next pass with its full key
         // (once: the retraction grows a little as the surface coarsens), and always if it makes
         // it heavier than Options::max_weight.
         const float full = float(plan.error + plan.retraction);
-        if (waits(h, candidate.key.weight, full)) {
-            candidate.key.weight = full;
+        if (waits(h, weight, full)) {
+            edge_key_[h].weight = full, placed_[h] = kMoved;
+            mark_stale(h); // ranked again with that key
             return Check::Waits;
         }
         return Check::Taken;
     }
     // Refused: it is no candidate until a change around it.
     fail_[h] = pass_;
+    mark_stale(h);
     fail_at_[h] = fold_hint(h, plan.refused_at);
     if (const uint32_t t = mesh_.twin[h]; t != kNone)
         fail_[t] = fail_[h], fail_at_[t] = fold_hint(t, plan.refused_at);

@@ -1,7 +1,7 @@
-// The order of one pass: every candidate (an edge or a vertex) with its key, sorted lightest
-// first by a stable radix sort, so that equal keys keep the candidates' id order and the order is
-// total and deterministic. A pass selects from the lightest part of this order (see
-// Simplifier::run_pass).
+// The order of the passes: every candidate (an edge or a vertex) with its key, lightest first,
+// equal keys in id order, so that the order is total and deterministic. A ranking sorts the
+// candidates it ranked again by a stable radix sort and merges them into the order it keeps; a
+// pass selects from the lightest part of it (see Simplifier::run_pass).
 #pragma once
 
 #include "parallel.h"
@@ -27,7 +27,6 @@ struct Key {
 struct Candidate {
     uint64_t order;
     uint32_t id;
-    uint32_t item; // what the candidate is (an edge or a vertex), where id says where it is
 
     static uint32_t bits(float f) {
         f += 0.0f; // -0 -> +0
@@ -35,8 +34,11 @@ struct Candidate {
         std::memcpy(&u, &f, sizeof u);
         return u & 0x80000000u ? ~u : u | 0x80000000u;
     }
-    static Candidate make(const Key& k, uint32_t id, uint32_t item = 0) {
-        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id, item};
+    static Candidate make(const Key& k, uint32_t id) {
+        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id};
+    }
+    bool operator<(const Candidate& o) const {
+        return order != o.order ? order < o.order : id < o.id;
     }
     float weight() const {
         uint32_t u = uint32_t(order >> 16);
@@ -61,9 +63,7 @@ inline uint32_t digit(const Candidate& c, int d) {
 template <class Vector> void sort_candidates(Vector& items, Vector& scratch, Parallel& parallel) {
     const size_t n = items.size();
     if (n < kDigitValues) {
-        std::sort(items.begin(), items.end(), [](const Candidate& a, const Candidate& b) {
-            return a.order != b.order ? a.order < b.order : a.id < b.id;
-        });
+        std::sort(items.begin(), items.end());
         return;
     }
     scratch.resize(n);
@@ -114,38 +114,24 @@ template <class Vector> void sort_candidates(Vector& items, Vector& scratch, Par
     }
 }
 
-// The `count` lightest of a pass's candidates without holding them all: add() counts each one's
-// top key digit, bound(count) finds the highest top digit the lightest `count` need, and keeps()
-// then says which to collect (in id order) and sort: the lightest `count` first, perhaps followed
-// by more. The same first `count` as sorting all of them.
-class LightestShare {
-public:
-    void add(const Candidate& c) { ++histogram_[digit(c, kKeyDigits - 1)], ++total_; }
-    // The same for the candidate that `key` makes, from the weight alone (the top digit's).
-    void add(const Key& key) { ++histogram_[top_digit(key)], ++total_; }
-    // Counts what `other` counted too.
-    void add(const LightestShare& other) {
-        for (size_t b = 0; b < kDigitValues; ++b) histogram_[b] += other.histogram_[b];
-        total_ += other.total_;
+// Merges `from` (sorted) into `into` (sorted), in place from the back: the one sorted order of
+// both. `from` is usually much the shorter: the place of each of its items is found by a search
+// galloping back from the last one's, and the items of `into` between moved as one block.
+template <class Vector> void merge_candidates(Vector& into, const Vector& from) {
+    size_t i = into.size(), j = from.size(), k = i + j;
+    into.resize(k);
+    while (j > 0) {
+        const auto& item = from[--j];
+        // The first of into[0, i) that goes after item: into[low, high) holds it.
+        size_t high = i, step = 1;
+        while (step <= high && item < into[high - step]) high -= step, step *= 2;
+        size_t low = high >= step ? high - step : 0;
+        high = std::upper_bound(into.begin() + low, into.begin() + high, item) - into.begin();
+        std::move_backward(into.begin() + high, into.begin() + i, into.begin() + k);
+        k -= i - high;
+        i = high;
+        into[--k] = item;
     }
-    size_t total() const { return total_; }
-    void bound(size_t count) {
-        last_ = uint32_t(kDigitValues - 1);
-        if (count >= total_ || total_ < kDigitValues) return; // all of them
-        last_ = 0;
-        for (size_t sum = 0; sum + histogram_[last_] < count;) sum += histogram_[last_++];
-    }
-    bool keeps(const Candidate& c) const { return digit(c, kKeyDigits - 1) <= last_; }
-    bool keeps(const Key& key) const { return top_digit(key) <= last_; }
-
-private:
-    static_assert(kKeyDigits * kDigitBits == 48, "the weight's 32 bits are the key's top bits");
-    static uint32_t top_digit(const Key& key) {
-        return Candidate::bits(key.weight) >> (32 - kDigitBits);
-    }
-    std::vector<uint32_t> histogram_ = std::vector<uint32_t>(kDigitValues, 0);
-    size_t total_ = 0;
-    uint32_t last_ = 0;
-};
+}
 
 } // namespace ddsimp::detail

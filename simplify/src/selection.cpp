@@ -39,7 +39,7 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     // each a miss in a large surface; so the candidates ahead are fetched a stage at a time, each
     // stage reading what the one before fetched.
     constexpr size_t kAhead = 8;
-    auto id_at = [&](size_t j) { return order_[pending_[j]].item; };
+    auto id_at = [&](size_t j) { return ranked_[pending_[j]].id; };
     // Held by an operation taken in an earlier round of this pass (their checks are done).
     auto taken = [&](const Hold& hold) {
         return hold.stamp >= pass_stamp && hold.stamp != round_stamp &&

@@ -67,11 +67,12 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     // Edge collapse's ids are half-edges, vertex removal's vertices.
     const size_t ids = collapse ? surface.triangles.size() : capacity;
     fail_.assign(ids, 0);
-    listed_.assign(ids, 0);
     raised_.assign(ids, 0);
+    stale_.assign(ids, 0); // the first ranking visits every id
+    placed_.assign(ids, kUnplaced);
+    if (collapse) rekey_.assign(ids, 1), edge_key_.assign(ids, {});
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, {0, 0});
-    rekey_.assign(capacity, 0);
     if (collapse) fail_at_.assign(surface.triangles.size(), kNoFold);
 
     record_.strategy_ = options.strategy;
@@ -110,20 +111,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     for (uint32_t v = 0; v < n && !quadric_terms_; ++v)
         weight_[v] = float(options.alpha * curvature[v] * curvature_scale_ +
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
-    if (collapse) {
-        size_t edges = 0;
-        for (uint32_t h = 0; h < surface.triangles.size(); ++h)
-            edges += mesh_.twin[h] == kNone || h < mesh_.twin[h];
-        pool_.reserve(edges);
-        for (uint32_t h = 0; h < surface.triangles.size(); ++h)
-            if (mesh_.twin[h] == kNone || h < mesh_.twin[h])
-                pool_.push_back({h, kNever, {}}), listed_[h] = 1;
-    } else {
-        pool_.reserve(vertices_in_use_);
+    if (!collapse) {
         shortest_.assign(capacity, 0);
         for (uint32_t v = 0; v < n; ++v)
-            if (mesh_.kind[v] != VertexKind::Dead)
-                key_removal(v), pool_.push_back({v, kNever, {}}), listed_[v] = 1;
+            if (mesh_.kind[v] != VertexKind::Dead) key_removal(v);
     }
 }
 
@@ -178,35 +169,32 @@ void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t ke
     // unless their kind changed. A kind can change only at the apexes (they lost a neighbour and
     // may have merged line flags), changed[1..kept_from), and at ring vertices on a line; a Free
     // vertex from kept_from on keeps its kind and valence (and weight_ is not used).
-    const bool collapse_quadrics = quadric_terms_ && options_.strategy == Strategy::EdgeCollapse;
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    const bool collapse_quadrics = quadric_terms_ && collapse;
     const bool star_keys = options_.placement == Placement::VolumePreserving;
     for (size_t i = 0; i < count; ++i) {
         const uint32_t v = changed[i];
         epoch_[v] = epoch;
         const VertexKind kind = mesh_.kind[v];
         if (!collapse_quadrics || i < kept_from || kind != VertexKind::Free) refresh_vertex(v);
-        if (!collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys) rekey_[v] = pass_;
+        if (!collapse) {
+            mark_stale(v);
+            continue;
+        }
+        // The edges at a ring vertex that kept its kind, valence and line read nothing that
+        // changed (a refused one stays stale anyway, see stale_): they keep their places.
+        const bool rekey = !collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys;
+        if (rekey || i < kept_from || kind != VertexKind::Free) mark_edges_at(v, rekey);
     }
 }
 
-void Simplifier::list_new_edges(size_t count) {
-    // One piece of the new vertices per thread, each listing into its own array in order, then
-    // the pieces in order: the list a loop over the vertices makes. The new vertices' fans share
-    // no edge (their collapses' neighbourhoods were disjoint), so each edge is listed once.
-    const size_t pieces = parallel_.pieces(count);
-    if (born_pieces_.size() < pieces) born_pieces_.resize(pieces);
-    parallel_.for_pieces(count, [&](size_t begin, size_t end, size_t p) {
-        std::vector<uint32_t>& piece = born_pieces_[p];
-        piece.clear();
-        for (size_t j = begin; j < end; ++j)
-            mesh_.for_each_edge(news_[j], [&](uint32_t h, uint32_t, bool) {
-                const uint32_t t = mesh_.twin[h];
-                const uint32_t id = t != kNone && t < h ? t : h;
-                if (!listed_[id]) listed_[id] = 1, piece.push_back(id);
-            });
+void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
+    mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool) {
+        const uint32_t t = mesh_.twin[h];
+        const uint32_t id = t != kNone && t < h ? t : h;
+        mark_stale(id);
+        if (rekey) mark_rekey(id);
     });
-    for (size_t p = 0; p < pieces; ++p)
-        born_.insert(born_.end(), born_pieces_[p].begin(), born_pieces_[p].end());
 }
 
 double Simplifier::geometry_weight() const {
@@ -259,9 +247,9 @@ void Simplifier::check_published(size_t first, std::atomic<size_t>& claimed,
         const size_t end = wait_published(begin + kCheckBatch);
         if (begin >= end || stopped.load(std::memory_order_relaxed)) return;
         for (size_t i = begin; i < end; ++i) {
-            Member& m = pool_[order_[selected_[i]].id];
-            checked_[first + i] = collapse ? check_collapse(m, plans_[first + i])
-                                           : check_removal(m.id, removals_[first + i]);
+            const detail::Candidate& c = ranked_[selected_[i]];
+            checked_[first + i] = collapse ? check_collapse(c.id, c.weight(), plans_[first + i])
+                                           : check_removal(c.id, removals_[first + i]);
         }
         since_progress += end - begin;
         if (calling && since_progress >= kBlock) {
@@ -294,8 +282,8 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
         return false;
     }
-    if (order_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;
-    share_limit_ = order_[share - 1].weight();
+    if (ranked_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;
+    share_limit_ = ranked_[share - 1].weight();
     ++pass_;
 
     // Select, in rank order: a candidate whose neighbourhood no candidate selected before it
@@ -314,7 +302,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         plans_.reserve(share);
     else
         removals_.reserve(share);
-    for (uint32_t i = 0; i < share && order_[i].weight() <= options_.max_weight; ++i)
+    for (uint32_t i = 0; i < share && ranked_[i].weight() <= options_.max_weight; ++i)
         pending_.push_back(i);
     checked_.clear();
     const uint32_t pass_stamp = stamp_ + 1; // the first round's
@@ -377,9 +365,6 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     } else {
         grow(record_.writes_, writes);
     }
-    news_.resize(count);
-    for (size_t j = 0; j < count && collapse; ++j)
-        news_[j] = mesh_.origin[plans_[taken_[j].second].halfedge];
     const size_t applied = in_blocks(count, [&](size_t begin, size_t end) {
         for (size_t j = begin; j < end; ++j) {
             const uint32_t t = taken_[j].second;
@@ -405,7 +390,6 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     }
     operations_ += applied;
     mesh_.live_triangles = live;
-    if (collapse) list_new_edges(applied);
     if (applied < count) return stop = StopReason::Cancelled, true;
     if (live <= target) return stop = StopReason::TargetReached, true;
     if (!checkpoint()) return stop = StopReason::Cancelled, true;

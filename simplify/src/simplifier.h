@@ -110,24 +110,24 @@ private:
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
     // Reserves the record's per-operation arrays for the most operations a run to `target` takes.
     void reserve_record(size_t target);
-    struct Member; // of the pool of candidates (below)
-    // rank.cpp: the next pass: the number of candidates it selects from into `share`, and at
-    // least that many of the lightest candidates, sorted lightest first, into order_. False:
-    // cancelled.
+    // rank.cpp: the next pass: the number of candidates it selects from into `share`; ranked_
+    // holds every candidate, lightest first. False: cancelled.
     bool rank_candidates(size_t& share);
     // The fraction of the candidates the next pass selects from; reads only the surface's size.
     double pass_share() const;
-    // What pool member m is this pass (kDeadMember, kLiveMember or kCandidate), with its key
-    // computed again if what it reads changed; writes only m and its id's flags.
-    uint8_t rank_member(Member& m);
-    // Drops the dead of `members` (statuses in `status`), keeping the order, and counts the
-    // candidates' keys into `lightest`; returns how many are left.
-    size_t drop_dead(detail::Array<Member>& members, detail::Array<uint8_t>& status,
-                     detail::LightestShare& lightest);
-    // Merges born_members_ (in id order) into the pool, in id order.
-    void merge_born();
-    // The pool's candidates that `lightest` keeps, in id order, into order_.
-    void collect_lightest(const detail::LightestShare& lightest);
+    // Ranks id again: kIsCandidate if it is a candidate now, kKeyed if its key may have changed
+    // (computed again, as what it reads changed). Writes only id's own places (its flags and,
+    // for an edge, its cached weight).
+    static constexpr uint8_t kIsCandidate = 1, kKeyed = 2;
+    uint8_t rank_id(uint32_t id);
+    // The key of a candidate that rank_id ranked.
+    detail::Key key_of(uint32_t id) const;
+    // The ids marked stale, in id order, into stale_ids_.
+    void gather_stale();
+    // Drops from ranked_ every candidate whose place is kDropped, keeping the order.
+    void drop_stale();
+    // Sorts fresh_ (in id order) by key and merges it into ranked_.
+    void merge_fresh();
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
     // Selection rounds per pass (see run_pass).
@@ -212,9 +212,10 @@ private:
     void apply_collapse(const CollapsePlan& plan, size_t index);
     // What checking a selected candidate on the untouched surface found.
     enum class Check : uint8_t { Refused, Waits, Taken };
-    Check check_collapse(Member& candidate, CollapsePlan& plan);
-    // The new edges of the collapses' new vertices news_[0..count) join the pool (born_).
-    void list_new_edges(size_t count);
+    // `weight`: the candidate's key weight.
+    Check check_collapse(uint32_t h, float weight, CollapsePlan& plan);
+    // Marks the edges at v stale (and, with `rekey`, their keys to be computed again).
+    void mark_edges_at(uint32_t v, bool rekey);
 
     // vertex_removal.cpp
     bool removable(uint32_t v) const;
@@ -262,30 +263,34 @@ private:
     }
     double curvature_scale_ = 0, gradient_scale_ = 0; // 1 / mean of each term over the input
     size_t operations_ = 0;
-    // The pool of candidates, in id order: every live edge (under its lower half-edge id) for
-    // edge collapse, every live vertex for vertex removal; listed_[id] says whether id is in it,
-    // born_ holds the edges a collapse made since the last pass (merged edges get new ids).
-    // Each pool member keeps its key and the pass after which it was computed (kNever: not yet).
-    static constexpr uint32_t kNever = 0xffffffffu;
-    struct Member {
-        uint32_t id, keyed;
-        detail::Key key;
-    };
-    // A pass's candidates (order_) name their pool member by its index; the pool is in id order,
-    // so they are in id order too.
-    detail::Array<Member> pool_;
-    // rank_candidates' scratch: what each pool member is this pass; the members born since the
-    // last pass with theirs; the members merge_born sets aside with theirs.
-    static constexpr uint8_t kDeadMember = 0, kLiveMember = 1, kCandidate = 2;
-    detail::Array<uint8_t> status_, born_status_;
-    detail::Array<Member> born_members_;
-    std::vector<Member> aside_;
-    std::vector<uint8_t> aside_status_;
-    std::vector<uint32_t> born_;
-    std::vector<std::vector<uint32_t>> born_pieces_; // list_new_edges' lists, one per thread
-    detail::Array<uint8_t> listed_;
-    // The pass's lightest, sorted, and the sort's scratch space.
-    detail::Array<detail::Candidate> order_, scratch_;
+    // The candidates are the ids (edge collapse: every live edge under its lower half-edge id;
+    // vertex removal: every live vertex) that can be operated on with a finite key. ranked_ holds
+    // them all, lightest first (see pass_order.h), from pass to pass: a ranking visits only the
+    // ids marked stale_ where something their status or key reads changed (an operation's stars,
+    // a refusal, a plan that waits) and replaces the places of those whose status or key changed.
+    // A refused id stays stale until its refusal is forgiven, as that reads its apexes too.
+    // rekey_[id]: the key (edge collapse's, cached in edge_key_) must be computed again, as an
+    // end moved or changed kind. placed_[id]: whether id has a place in ranked_ (kPlaced), one
+    // with a key that a plan raised since (kMoved), or one the ranking drops (kDropped).
+    // Operations side by side may mark the same id: the marks are relaxed atomic stores of 1,
+    // each flag in its own array.
+    detail::Array<detail::Candidate> ranked_;
+    detail::Array<uint8_t> stale_, rekey_, placed_;
+    static constexpr uint8_t kUnplaced = 0, kPlaced = 1, kMoved = 2, kDropped = 3;
+    detail::Array<detail::Key> edge_key_;
+    void mark_stale(uint32_t id) {
+        std::atomic_ref<uint8_t>(stale_[id]).store(1, std::memory_order_relaxed);
+    }
+    void mark_rekey(uint32_t id) {
+        std::atomic_ref<uint8_t>(rekey_[id]).store(1, std::memory_order_relaxed);
+    }
+    // rank_candidates' scratch: the stale ids, which of them are candidates, their candidates
+    // sorted, the sort's scratch space, and the pieces' lists.
+    std::vector<uint32_t> stale_ids_;
+    detail::Array<uint8_t> fresh_status_;
+    detail::Array<detail::Candidate> fresh_, scratch_;
+    std::vector<std::vector<uint32_t>> stale_pieces_;
+    bool all_stale_ = true; // the first ranking visits every id
     // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
     // checked_ and the plans) of the candidate that holds it. Each round has its own stamp
     // (stamp_ counts them), so nothing needs clearing between rounds or passes, and what a taken
@@ -295,7 +300,7 @@ private:
     };
     detail::Array<Hold> busy_;
     uint32_t stamp_ = 0;
-    // A pass's candidates still in its selection, those a round selected (ranks in order_,
+    // A pass's candidates still in its selection, those a round selected (ranks in ranked_,
     // ascending), those it blocked with the holder index of one that blocked each (see select),
     // and what each of the pass's selected ones' check found and its plan, in selection order
     // over the rounds (what a taken one's operation needs when applied).
@@ -303,15 +308,12 @@ private:
     std::vector<Check> checked_;
     detail::Array<CollapsePlan> plans_;
     detail::Array<Removal> removals_;
-    // The operations a pass takes: (rank in order_, index into plans_ or removals_), sorted by
-    // rank; then the new vertices and where each removal's writes go in the record.
+    // The operations a pass takes: (rank in ranked_, index into plans_ or removals_), sorted by
+    // rank; then where each removal's writes go in the record.
     std::vector<std::pair<uint32_t, uint32_t>> taken_;
-    std::vector<uint32_t> news_, write_at_;
+    std::vector<uint32_t> write_at_;
     size_t target_ = 0;      // of the run (for the progress fraction only)
     bool cancelled_ = false; // Options::progress asked to stop
-    // rekey_[v]: the last pass in which something the keys of v's edges (or v's own key) read
-    // changed; a pool member's key is computed again when an end's rekey_ is newer than it.
-    detail::Array<uint32_t> rekey_;
     uint32_t pass_ = 0;
     // Refusals are remembered: fail_[id] is the pass in which the plan refused the edge (per
     // half-edge) or vertex; epoch_[v] is the pass in which v's star last changed. A refusal

@@ -457,6 +457,7 @@ void Simplifier::apply_removal(const Removal& plan, size_t index, size_t write_a
     }
     m.kind[plan.vertex] = VertexKind::Dead;
     m.out[plan.vertex] = kNone;
+    mark_stale(plan.vertex); // its place in the order goes
 
     // Every ring vertex needs a surviving way into its fan.
     for (size_t i = 0; i < n; ++i) {
@@ -496,14 +497,15 @@ Simplifier::Check Simplifier::check_removal(uint32_t v, Removal& removal) {
     RemovalPlan plan;
     if (!plan_removal(v, plan)) {
         fail_[v] = pass_; // no candidate until its star changes
+        mark_stale(v);
         return Check::Refused;
     }
     // Its key was an estimate (see weight_): a re-triangulation that makes it wait (see waits,
     // as a collapse's retraction does) becomes its key.
     const float error = float(plan.error);
     if (quadric_terms_ && waits(v, weight_[v], error)) {
-        weight_[v] = error;
-        rekey_[v] = pass_;
+        weight_[v] = error, placed_[v] = kMoved;
+        mark_stale(v); // ranked again with that key
         return Check::Waits;
     }
     removal = plan;

@@ -1,5 +1,5 @@
-// pass_order.h (internal): a pass's candidates sorted by key, then id, by counting passes; the
-// lightest share must be what a comparison sort of all candidates gives.
+// pass_order.h (internal): candidates sorted by key, then id, by counting passes, and merged into
+// a sorted order; both must give what a comparison sort of all candidates gives.
 #include "pass_order.h"
 
 #include <gtest/gtest.h>
@@ -28,52 +28,48 @@ bool lighter(const Candidate& a, const Candidate& b) {
     return a.order != b.order ? a.order < b.order : a.id < b.id;
 }
 
-TEST(PassOrder, LightestShareSortedEqualsAComparisonSort) {
-    // Few candidates (comparison sort), many (counting passes), few and many distinct keys,
-    // shares from one candidate to all of them, and the counting passes in one piece or in
-    // several on threads.
+TEST(PassOrder, CountingSortEqualsAComparisonSort) {
+    // Few candidates (comparison sort), many (counting passes), few and many distinct keys, and
+    // the counting passes in one piece or in several on threads.
     for (int threads : {1, 3})
         for (size_t n : {100u, 5000u, 200000u})
-            for (uint32_t distinct : {3u, 1000u, 1u << 30})
-                for (double share : {0.0, 0.25, 1.0}) {
-                    const std::vector<Candidate> input =
-                        random_candidates(n, distinct, uint32_t(n));
-                    std::vector<Candidate> want = input;
-                    std::sort(want.begin(), want.end(), lighter);
-                    const size_t count = std::max<size_t>(1, size_t(share * double(n)));
-                    LightestShare lightest;
-                    for (const Candidate& c : input) lightest.add(c);
-                    lightest.bound(count);
-                    std::vector<Candidate> got, scratch;
-                    for (const Candidate& c : input)
-                        if (lightest.keeps(c)) got.push_back(c);
-                    Parallel parallel(threads);
-                    sort_candidates(got, scratch, parallel);
-                    ASSERT_GE(got.size(), count);
-                    for (size_t i = 0; i < count; ++i) {
-                        ASSERT_EQ(got[i].id, want[i].id)
-                            << threads << " threads, n " << n << ", at " << i;
-                        ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
-                    }
+            for (uint32_t distinct : {3u, 1000u, 1u << 30}) {
+                const std::vector<Candidate> input = random_candidates(n, distinct, uint32_t(n));
+                std::vector<Candidate> want = input;
+                std::sort(want.begin(), want.end(), lighter);
+                std::vector<Candidate> got = input, scratch;
+                Parallel parallel(threads);
+                sort_candidates(got, scratch, parallel);
+                ASSERT_EQ(got.size(), n);
+                for (size_t i = 0; i < n; ++i) {
+                    ASSERT_EQ(got[i].id, want[i].id)
+                        << threads << " threads, n " << n << ", at " << i;
+                    ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
                 }
+            }
 }
 
-TEST(PassOrder, TheShareOfKeysIsTheShareOfTheirCandidates) {
-    // The ranking counts and keeps keys by their weight alone: the same as their candidates.
-    std::mt19937 random(7);
-    std::uniform_real_distribution<float> weight(-2.0f, 1e6f), tie(0.0f, 10.0f);
-    std::vector<Key> keys(50000);
-    for (Key& k : keys) k = {random() % 5 == 0 ? 0.0f : weight(random), tie(random)};
-    LightestShare by_key, by_candidate;
-    for (const Key& k : keys) by_key.add(k), by_candidate.add(Candidate::make(k, 0));
-    by_key.bound(keys.size() / 4), by_candidate.bound(keys.size() / 4);
-    size_t kept = 0;
-    for (const Key& k : keys) {
-        ASSERT_EQ(by_key.keeps(k), by_candidate.keeps(Candidate::make(k, 0)));
-        kept += by_key.keeps(k);
-    }
-    EXPECT_GE(kept, keys.size() / 4);
-    EXPECT_LT(kept, keys.size());
+TEST(PassOrder, MergingEqualsSortingAll) {
+    // The candidates split into a kept order and the ones ranked again (none, a few, about as
+    // many, all), each sorted, merged: the order of all of them sorted, ties in id order.
+    std::mt19937 random(11);
+    for (uint32_t distinct : {2u, 50u, 1u << 30})
+        for (size_t fresh_every : {0u, 1u, 2u, 37u, 1000u}) {
+            const std::vector<Candidate> all = random_candidates(20000, distinct, distinct);
+            std::vector<Candidate> kept, fresh;
+            for (const Candidate& c : all)
+                (fresh_every > 0 && random() % fresh_every == 0 ? fresh : kept).push_back(c);
+            std::sort(kept.begin(), kept.end(), lighter);
+            std::sort(fresh.begin(), fresh.end(), lighter);
+            merge_candidates(kept, fresh);
+            std::vector<Candidate> want = all;
+            std::sort(want.begin(), want.end(), lighter);
+            ASSERT_EQ(kept.size(), want.size());
+            for (size_t i = 0; i < want.size(); ++i) {
+                ASSERT_EQ(kept[i].id, want[i].id) << distinct << " keys, at " << i;
+                ASSERT_EQ(kept[i].order, want[i].order) << distinct << " keys, at " << i;
+            }
+        }
 }
 
 TEST(PassOrder, NegativeZeroAndZeroAreEqualKeys) {
