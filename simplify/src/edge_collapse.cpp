@@ -360,8 +360,8 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     auto merge = [&](uint32_t e1, uint32_t e2) {
         const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
         const uint8_t l = m.line[e1] | m.line[e2];
-        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l, mark_stale(o1), mark_rekey(o1);
-        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l, mark_stale(o2), mark_rekey(o2);
+        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l, mark_rekey(o1);
+        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l, mark_rekey(o2);
     };
     merge(next(h), prev(h));
     if (ht != kNone) merge(next(ht), prev(ht));
@@ -425,7 +425,7 @@ Simplifier::Check Simplifier::check_collapse(uint32_t h, float weight, CollapseP
         // it heavier than Options::max_weight.
         const float full = float(plan.error + plan.retraction);
         if (waits(h, weight, full)) {
-            edge_key_[h].weight = full, placed_[h] = kMoved;
+            edge_weight_[h] = full, placed_[h] = kMoved;
             mark_stale(h); // ranked again with that key
             return Check::Waits;
         }

@@ -23,10 +23,13 @@ struct Key {
 // A candidate with its key packed into 48 bits that order as (weight, tie): each float mapped to
 // an unsigned integer in the same order (-0 first made +0, as the float comparison equates
 // them), the weight's 32 bits above the tie's top 16 (its sign, exponent and 7 bits of mantissa:
-// ties closer than about 1% count as equal and go by id).
+// ties closer than about 1% count as equal and go by id). Twelve bytes: the kept order holds
+// every candidate.
 struct Candidate {
-    uint64_t order;
+    uint32_t weight_bits, tie_bits; // the order's top 32 bits and its low 16
     uint32_t id;
+
+    uint64_t order() const { return uint64_t(weight_bits) << 16 | tie_bits; }
 
     static uint32_t bits(float f) {
         f += 0.0f; // -0 -> +0
@@ -35,13 +38,15 @@ struct Candidate {
         return u & 0x80000000u ? ~u : u | 0x80000000u;
     }
     static Candidate make(const Key& k, uint32_t id) {
-        return {uint64_t(bits(k.weight)) << 16 | bits(k.tie) >> 16, id};
+        return {bits(k.weight), bits(k.tie) >> 16, id};
     }
     bool operator<(const Candidate& o) const {
-        return order != o.order ? order < o.order : id < o.id;
+        return weight_bits != o.weight_bits ? weight_bits < o.weight_bits
+               : tie_bits != o.tie_bits     ? tie_bits < o.tie_bits
+                                            : id < o.id;
     }
     float weight() const {
-        uint32_t u = uint32_t(order >> 16);
+        uint32_t u = weight_bits;
         u = u & 0x80000000u ? u & 0x7fffffffu : ~u;
         float f;
         std::memcpy(&f, &u, sizeof f);
@@ -52,7 +57,7 @@ struct Candidate {
 inline constexpr int kKeyDigits = 4, kDigitBits = 12; // 48 bits of key
 inline constexpr size_t kDigitValues = size_t(1) << kDigitBits;
 inline uint32_t digit(const Candidate& c, int d) {
-    return uint32_t(c.order >> (kDigitBits * d)) & (kDigitValues - 1);
+    return uint32_t(c.order() >> (kDigitBits * d)) & (kDigitValues - 1);
 }
 
 // Sorts `items`, which come in id order, by key, then by id: stable counting passes over the

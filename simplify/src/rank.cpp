@@ -31,63 +31,67 @@ size_t piece_begin(size_t p, size_t n, size_t pieces) {
 } // namespace
 
 uint8_t Simplifier::rank_id(uint32_t id) {
+    const uint8_t marks = stale_[id];
     stale_[id] = 0;
     if (options_.strategy == Strategy::VertexRemoval) {
         // Marked when its star changed, so its key may have: it is placed again.
         if (mesh_.kind[id] == VertexKind::Dead) return kKeyed;
         if (!removable(id)) {
-            stale_[id] = fail_[id] != 0; // until the refusal is forgiven
+            stale_[id] = fail_[id] != 0 ? kStale : 0; // until the refusal is forgiven
             return kKeyed;
         }
         return std::isinf(removal_key(id).weight) ? kKeyed : kKeyed | kIsCandidate;
     }
     const uint32_t a = mesh_.origin[id], t = mesh_.twin[id];
-    if (a == kNone || (t != kNone && t < id)) { // no live edge's id (now)
-        rekey_[id] = 1;                         // should a merge make it one again
-        return 0;
-    }
+    if (a == kNone || (t != kNone && t < id)) return 0; // no live edge's id (a merge marks it)
     if (!collapsible(id, a, mesh_.dest(id))) {
         // A refusal is forgiven by a change at an apex too, which marks nothing here.
-        stale_[id] = fail_[id] != 0;
+        stale_[id] = uint8_t((marks & kKeyStale) | (fail_[id] != 0 ? kStale : 0));
         return 0;
     }
     uint8_t ranked = 0;
-    if (rekey_[id]) {
-        edge_key_[id] = collapse_key(id), rekey_[id] = 0, raised_[id] = 0;
+    if (marks & kKeyStale) {
+        edge_weight_[id] = collapse_key(id).weight, raised_[id] = 0;
         ranked = kKeyed;
     }
-    return std::isinf(edge_key_[id].weight) ? ranked : ranked | kIsCandidate;
+    return std::isinf(edge_weight_[id]) ? ranked : ranked | kIsCandidate;
 }
 
 detail::Key Simplifier::key_of(uint32_t id) const {
     if (options_.strategy == Strategy::VertexRemoval) return removal_key(id);
-    return edge_key_[id];
+    return {edge_weight_[id], edge_length(id)}; // an end that moved marked it kKeyStale
 }
 
 void Simplifier::gather_stale() {
-    // A scan of the flags, a word at a time: most are clear.
+    // Two scans of the flags, a word at a time (most are clear): each piece counts its stale ids,
+    // then writes them after the pieces before it.
+    static_assert(kStale == 1, "the scan reads kStale as the low bit of each byte");
     const size_t n = stale_.size(), pieces = pieces_of(parallel_, n);
-    if (stale_pieces_.size() < pieces) stale_pieces_.resize(pieces);
+    auto scan = [&](size_t p, auto&& stale) {
+        const size_t end = piece_begin(p + 1, n, pieces);
+        size_t i = piece_begin(p, n, pieces);
+        constexpr uint64_t kLowBits = 0x0101010101010101u; // kStale of each of 8 ids
+        for (; i + sizeof(uint64_t) <= end; i += sizeof(uint64_t)) {
+            uint64_t word;
+            std::memcpy(&word, &stale_[i], sizeof word);
+            for (word &= kLowBits; word != 0; word &= word - 1)
+                stale(uint32_t(i + size_t(std::countr_zero(word)) / 8));
+        }
+        for (; i < end; ++i)
+            if (stale_[i] & kStale) stale(uint32_t(i));
+    };
+    std::vector<size_t> at(pieces + 1, 0);
+    parallel_.for_each(
+        pieces, [&](size_t p) { scan(p, [&](uint32_t) { ++at[p + 1]; }); }, 1);
+    for (size_t p = 0; p < pieces; ++p) at[p + 1] += at[p];
+    stale_ids_.resize(at[pieces]);
     parallel_.for_each(
         pieces,
         [&](size_t p) {
-            std::vector<uint32_t>& list = stale_pieces_[p];
-            list.clear();
-            const size_t end = piece_begin(p + 1, n, pieces);
-            size_t i = piece_begin(p, n, pieces);
-            for (; i + sizeof(uint64_t) <= end; i += sizeof(uint64_t)) {
-                uint64_t word; // flags are 0 or 1: one bit per byte
-                std::memcpy(&word, &stale_[i], sizeof word);
-                for (; word != 0; word &= word - 1)
-                    list.push_back(uint32_t(i + size_t(std::countr_zero(word)) / 8));
-            }
-            for (; i < end; ++i)
-                if (stale_[i]) list.push_back(uint32_t(i));
+            size_t k = at[p];
+            scan(p, [&](uint32_t id) { stale_ids_[k++] = id; });
         },
         1);
-    stale_ids_.clear();
-    for (size_t p = 0; p < pieces; ++p)
-        stale_ids_.insert(stale_ids_.end(), stale_pieces_[p].begin(), stale_pieces_[p].end());
 }
 
 void Simplifier::drop_stale() {
@@ -182,7 +186,12 @@ bool Simplifier::rank_candidates(size_t& share) {
             }
         },
         1);
-    detail::sort_candidates(fresh_, scratch_, parallel_);
+    // Many at once (the first ranking: all of them) are sorted in place, which needs no second
+    // array of their size; fewer by the counting passes, in a scratch space of their size.
+    if (fresh_.size() > ranked_.size() / kSortedInPlace)
+        parallel_.sort(fresh_.begin(), fresh_.end());
+    else
+        detail::sort_candidates(fresh_, scratch_, parallel_);
     if (ranked_.empty())
         ranked_.swap(fresh_);
     else

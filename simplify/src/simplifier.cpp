@@ -68,9 +68,9 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     const size_t ids = collapse ? surface.triangles.size() : capacity;
     fail_.assign(ids, 0);
     raised_.assign(ids, 0);
-    stale_.assign(ids, 0); // the first ranking visits every id
+    stale_.assign(ids, kStale | kKeyStale); // the first ranking visits every id
     placed_.assign(ids, kUnplaced);
-    if (collapse) rekey_.assign(ids, 1), edge_key_.assign(ids, {});
+    if (collapse) edge_weight_.assign(ids, 0);
     epoch_.assign(capacity, 0);
     busy_.assign(capacity, {0, 0});
     if (collapse) fail_at_.assign(surface.triangles.size(), kNoFold);
@@ -192,8 +192,10 @@ void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
     mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool) {
         const uint32_t t = mesh_.twin[h];
         const uint32_t id = t != kNone && t < h ? t : h;
-        mark_stale(id);
-        if (rekey) mark_rekey(id);
+        if (rekey)
+            mark_rekey(id);
+        else
+            mark_stale(id);
     });
 }
 

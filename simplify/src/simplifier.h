@@ -1,9 +1,10 @@
 // One simplification run: the weights, the passes, the two strategies and the record they write.
-// Pipeline: build the half-edge mesh -> classify vertices -> weigh -> per pass: rank the
-// candidates, keep the lightest share, select in rank order those whose neighbourhoods no
-// lighter selected one touches (an independent set), check them on the untouched surface, apply
-// the ones that pass, record them in key order -> repeat until the target. Ranking, checks and
-// application run on Options::threads threads; the output does not depend on it.
+// Pipeline: build the half-edge mesh -> classify vertices -> weigh -> per pass: rank again the
+// candidates the last pass changed (the order of all candidates is kept between passes), select
+// in rank order from the lightest share those whose neighbourhoods no lighter selected one
+// touches (an independent set), check them on the untouched surface, apply the ones that pass,
+// record them in key order -> repeat until the target. Ranking, checks and application run on
+// Options::threads threads; the output does not depend on it.
 #pragma once
 
 #include "ddsimp/ddsimp.h"
@@ -124,6 +125,8 @@ private:
     detail::Key key_of(uint32_t id) const;
     // The ids marked stale, in id order, into stale_ids_.
     void gather_stale();
+    // A ranking sorts its new places in place when they are more than the kept ones over this.
+    static constexpr size_t kSortedInPlace = 8;
     // Drops from ranked_ every candidate whose place is kDropped, keeping the order.
     void drop_stale();
     // Sorts fresh_ (in id order) by key and merges it into ranked_.
@@ -266,30 +269,34 @@ private:
     // The candidates are the ids (edge collapse: every live edge under its lower half-edge id;
     // vertex removal: every live vertex) that can be operated on with a finite key. ranked_ holds
     // them all, lightest first (see pass_order.h), from pass to pass: a ranking visits only the
-    // ids marked stale_ where something their status or key reads changed (an operation's stars,
-    // a refusal, a plan that waits) and replaces the places of those whose status or key changed.
-    // A refused id stays stale until its refusal is forgiven, as that reads its apexes too.
-    // rekey_[id]: the key (edge collapse's, cached in edge_key_) must be computed again, as an
-    // end moved or changed kind. placed_[id]: whether id has a place in ranked_ (kPlaced), one
-    // with a key that a plan raised since (kMoved), or one the ranking drops (kDropped).
-    // Operations side by side may mark the same id: the marks are relaxed atomic stores of 1,
-    // each flag in its own array.
+    // ids marked in stale_ where something their status or key reads changed (an operation's
+    // stars, a refusal, a plan that waits) and replaces the places of those whose status or key
+    // changed. A refused id stays stale until its refusal is forgiven, as that reads its apexes
+    // too. kKeyStale: its key (edge collapse's, its weight cached in edge_weight_) must be
+    // computed again, as an end moved or changed kind; it stays until the key is computed, which
+    // waits until the id is a candidate again. placed_[id]: whether id has a place in
+    // ranked_ (kPlaced), one with a key that a plan raised since (kMoved), or one the ranking
+    // drops (kDropped).
     detail::Array<detail::Candidate> ranked_;
-    detail::Array<uint8_t> stale_, rekey_, placed_;
+    static constexpr uint8_t kStale = 1, kKeyStale = 2;
+    detail::Array<uint8_t> stale_, placed_;
     static constexpr uint8_t kUnplaced = 0, kPlaced = 1, kMoved = 2, kDropped = 3;
-    detail::Array<detail::Key> edge_key_;
+    detail::Array<float> edge_weight_;
+    // Operations side by side may mark the same id: a mark never clears what another set (both
+    // flags are stored outright, kStale added to an id without it).
     void mark_stale(uint32_t id) {
-        std::atomic_ref<uint8_t>(stale_[id]).store(1, std::memory_order_relaxed);
+        std::atomic_ref<uint8_t> marks(stale_[id]);
+        if (!(marks.load(std::memory_order_relaxed) & kStale))
+            marks.fetch_or(kStale, std::memory_order_relaxed);
     }
     void mark_rekey(uint32_t id) {
-        std::atomic_ref<uint8_t>(rekey_[id]).store(1, std::memory_order_relaxed);
+        std::atomic_ref<uint8_t>(stale_[id]).store(kStale | kKeyStale, std::memory_order_relaxed);
     }
-    // rank_candidates' scratch: the stale ids, which of them are candidates, their candidates
-    // sorted, the sort's scratch space, and the pieces' lists.
+    // rank_candidates' scratch: the stale ids, which of them get new places, the new places
+    // sorted, and the sort's scratch space.
     std::vector<uint32_t> stale_ids_;
     detail::Array<uint8_t> fresh_status_;
     detail::Array<detail::Candidate> fresh_, scratch_;
-    std::vector<std::vector<uint32_t>> stale_pieces_;
     bool all_stale_ = true; // the first ranking visits every id
     // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
     // checked_ and the plans) of the candidate that holds it. Each round has its own stamp

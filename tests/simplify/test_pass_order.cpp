@@ -25,7 +25,7 @@ std::vector<Candidate> random_candidates(size_t n, uint32_t distinct, uint32_t s
 }
 
 bool lighter(const Candidate& a, const Candidate& b) {
-    return a.order != b.order ? a.order < b.order : a.id < b.id;
+    return a.order() != b.order() ? a.order() < b.order() : a.id < b.id;
 }
 
 TEST(PassOrder, CountingSortEqualsAComparisonSort) {
@@ -44,7 +44,7 @@ TEST(PassOrder, CountingSortEqualsAComparisonSort) {
                 for (size_t i = 0; i < n; ++i) {
                     ASSERT_EQ(got[i].id, want[i].id)
                         << threads << " threads, n " << n << ", at " << i;
-                    ASSERT_EQ(got[i].order, want[i].order) << "n " << n << ", at " << i;
+                    ASSERT_EQ(got[i].order(), want[i].order()) << "n " << n << ", at " << i;
                 }
             }
 }
@@ -67,14 +67,14 @@ TEST(PassOrder, MergingEqualsSortingAll) {
             ASSERT_EQ(kept.size(), want.size());
             for (size_t i = 0; i < want.size(); ++i) {
                 ASSERT_EQ(kept[i].id, want[i].id) << distinct << " keys, at " << i;
-                ASSERT_EQ(kept[i].order, want[i].order) << distinct << " keys, at " << i;
+                ASSERT_EQ(kept[i].order(), want[i].order()) << distinct << " keys, at " << i;
             }
         }
 }
 
 TEST(PassOrder, NegativeZeroAndZeroAreEqualKeys) {
-    EXPECT_EQ(Candidate::make({-0.0f, 1}, 0).order, Candidate::make({0.0f, 1}, 0).order);
-    EXPECT_LT(Candidate::make({-1.0f, 0}, 0).order, Candidate::make({0.0f, 0}, 0).order);
+    EXPECT_EQ(Candidate::make({-0.0f, 1}, 0).order(), Candidate::make({0.0f, 1}, 0).order());
+    EXPECT_LT(Candidate::make({-1.0f, 0}, 0).order(), Candidate::make({0.0f, 0}, 0).order());
     EXPECT_EQ(Candidate::make({2.5f, 0}, 0).weight(), 2.5f);
 }
 
