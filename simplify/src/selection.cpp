@@ -11,21 +11,40 @@ namespace ddsimp {
 using detail::kNone;
 
 template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) const {
-    auto star = [&](uint32_t v) {
-        if (!visit(v)) return false;
-        const uint32_t start = mesh_.out[v];
-        uint32_t h = start, last = kNone;
-        do {
-            if (!visit(mesh_.dest(h))) return false;
-            last = h;
-            h = mesh_.twin[detail::prev(h)];
-        } while (h != kNone && h != start);
-        const uint32_t closing = detail::prev(last); // on a boundary, the fan's other side
-        return mesh_.twin[closing] != kNone || visit(mesh_.origin[closing]);
+    // A walk around one star: each step visits the next neighbour (on a boundary, last the one
+    // that closes the fan) and loads the half-edge after it.
+    struct Star {
+        uint32_t h, start, last = kNone;
+        bool over = false;
     };
-    return options_.strategy == Strategy::EdgeCollapse
-               ? star(mesh_.origin[id]) && star(mesh_.dest(id))
-               : star(id);
+    auto step = [&](Star& s) {
+        if (s.h == kNone || (s.h == s.start && s.last != kNone)) {
+            s.over = true;
+            const uint32_t closing = detail::prev(s.last); // on a boundary, the fan's other side
+            return mesh_.twin[closing] != kNone || visit(mesh_.origin[closing]);
+        }
+        if (!visit(mesh_.dest(s.h))) return false;
+        s.last = s.h;
+        s.h = mesh_.twin[detail::prev(s.h)];
+        return true;
+    };
+    if (options_.strategy == Strategy::VertexRemoval) {
+        Star s{mesh_.out[id], mesh_.out[id]};
+        if (!visit(id)) return false;
+        while (!s.over)
+            if (!step(s)) return false;
+        return true;
+    }
+    // An edge's two stars step by step side by side: each step waits on its own star's last
+    // load only. The order of the visits does not change what is selected (see select).
+    const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
+    Star sa{mesh_.out[a], mesh_.out[a]}, sb{mesh_.out[b], mesh_.out[b]};
+    if (!visit(a) || !visit(b)) return false;
+    while (!sa.over || !sb.over) {
+        if (!sa.over && !step(sa)) return false;
+        if (!sb.over && !step(sb)) return false;
+    }
+    return true;
 }
 
 bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first) {
@@ -78,7 +97,9 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
         }
         const uint32_t rank = pending_[j], id = id_at(j);
         // An edge's far end first: what holds either end shows before the walk reaches it.
-        // Which vertex shows a candidate blocked or out does not change what is selected.
+        // Which vertex shows a candidate blocked or out does not change what is selected: nor
+        // does which holder it records as its blocker, since one that a taken operation blocks
+        // too is out in the next round anyway.
         if (collapse) {
             const Hold& far = busy_[mesh_.dest(id)];
             if (taken(far)) continue;
