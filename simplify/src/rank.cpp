@@ -28,6 +28,20 @@ size_t piece_begin(size_t p, size_t n, size_t pieces) {
     return p * n / pieces;
 }
 
+// A list that pieces fill on their threads, in piece order: count(p) says how many items piece p
+// lists, resize(total) makes room for all, write(p, at) writes piece p's from `at` on.
+template <class Count, class Resize, class Write>
+void list_in_pieces(detail::Parallel& parallel, size_t pieces, Count&& count, Resize&& resize,
+                    Write&& write) {
+    std::vector<size_t> at(pieces + 1, 0);
+    parallel.for_each(
+        pieces, [&](size_t p) { at[p + 1] = count(p); }, 1);
+    for (size_t p = 0; p < pieces; ++p) at[p + 1] += at[p];
+    resize(at[pieces]);
+    parallel.for_each(
+        pieces, [&](size_t p) { write(p, at[p]); }, 1);
+}
+
 } // namespace
 
 uint8_t Simplifier::rank_id(uint32_t id) {
@@ -80,18 +94,15 @@ void Simplifier::gather_stale() {
         for (; i < end; ++i)
             if (stale_[i] & kStale) stale(uint32_t(i));
     };
-    std::vector<size_t> at(pieces + 1, 0);
-    parallel_.for_each(
-        pieces, [&](size_t p) { scan(p, [&](uint32_t) { ++at[p + 1]; }); }, 1);
-    for (size_t p = 0; p < pieces; ++p) at[p + 1] += at[p];
-    stale_ids_.resize(at[pieces]);
-    parallel_.for_each(
-        pieces,
+    list_in_pieces(
+        parallel_, pieces,
         [&](size_t p) {
-            size_t k = at[p];
-            scan(p, [&](uint32_t id) { stale_ids_[k++] = id; });
+            size_t count = 0;
+            scan(p, [&](uint32_t) { ++count; });
+            return count;
         },
-        1);
+        [&](size_t total) { stale_ids_.resize(total); },
+        [&](size_t p, size_t k) { scan(p, [&](uint32_t id) { stale_ids_[k++] = id; }); });
 }
 
 void Simplifier::drop_stale() {
@@ -157,23 +168,17 @@ bool Simplifier::rank_candidates(size_t& share) {
     // The new places in id order (counted per piece, then each piece written after the ones
     // before it), sorted and merged in.
     const size_t pieces = pieces_of(parallel_, count);
-    std::vector<size_t> at(pieces + 1, 0);
-    parallel_.for_each(
-        pieces,
+    list_in_pieces(
+        parallel_, pieces,
         [&](size_t p) {
-            size_t candidates = 0;
+            size_t placed = 0;
             for (size_t i = piece_begin(p, count, pieces); i < piece_begin(p + 1, count, pieces);
                  ++i)
-                candidates += fresh_status_[i];
-            at[p + 1] = candidates;
+                placed += fresh_status_[i];
+            return placed;
         },
-        1);
-    for (size_t p = 0; p < pieces; ++p) at[p + 1] += at[p];
-    fresh_.resize(at[pieces]);
-    parallel_.for_each(
-        pieces,
-        [&](size_t p) {
-            size_t k = at[p];
+        [&](size_t total) { fresh_.resize(total); },
+        [&](size_t p, size_t k) {
             for (size_t i = piece_begin(p, count, pieces); i < piece_begin(p + 1, count, pieces);
                  ++i) {
                 const uint32_t id = id_at(i);
@@ -184,8 +189,7 @@ bool Simplifier::rank_candidates(size_t& share) {
                     placed_[id] = kUnplaced;
                 }
             }
-        },
-        1);
+        });
     // Many at once (the first ranking: all of them) are sorted in place, which needs no second
     // array of their size; fewer by the counting passes, in a scratch space of their size.
     if (fresh_.size() > ranked_.size() / kSortedInPlace)

@@ -129,8 +129,6 @@ private:
     static constexpr size_t kSortedInPlace = 8;
     // Drops from ranked_ every candidate whose place is kDropped, keeping the order.
     void drop_stale();
-    // Sorts fresh_ (in id order) by key and merges it into ranked_.
-    void merge_fresh();
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
     // Selection rounds per pass (see run_pass).
