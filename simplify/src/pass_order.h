@@ -1,7 +1,8 @@
 // The order of the passes: every candidate (an edge or a vertex) with its key, lightest first,
 // equal keys in id order, so that the order is total and deterministic. A ranking sorts the
-// candidates it ranked again by a stable radix sort and merges them into the order it keeps; a
-// pass selects from the lightest part of it (see Simplifier::run_pass).
+// candidates it ranked again (by a stable radix sort, or in place when they are many) and merges
+// them into the order it keeps; a pass selects from the lightest part of it (see
+// Simplifier::run_pass).
 #pragma once
 
 #include "parallel.h"
