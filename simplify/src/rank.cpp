@@ -196,7 +196,7 @@ bool Simplifier::rank_candidates(size_t& share) {
         parallel_.sort(fresh_.begin(), fresh_.end());
     else
         detail::sort_candidates(fresh_, scratch_, parallel_);
-    if (ranked_.empty())
+    if (ranked_.empty()) // the first ranking: no merge, and no second array of every candidate
         ranked_.swap(fresh_);
     else
         detail::merge_candidates(ranked_, fresh_);

@@ -295,7 +295,9 @@ private:
     std::vector<uint32_t> stale_ids_;
     detail::Array<uint8_t> fresh_status_;
     detail::Array<detail::Candidate> fresh_, scratch_;
-    bool all_stale_ = true; // the first ranking visits every id
+    // The first ranking visits every id (all are stale) without listing them: a list of every id
+    // would be the largest array of the run.
+    bool all_stale_ = true;
     // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
     // checked_ and the plans) of the candidate that holds it. Each round has its own stamp
     // (stamp_ counts them), so nothing needs clearing between rounds or passes, and what a taken
