@@ -3,6 +3,7 @@
 // that are no candidates now or whose keys changed are dropped, and the new candidates and new
 // keys are sorted and merged in. Each step runs in pieces on the threads, each piece writing only
 // its own places, and the pieces are joined in order: the same order on any number of threads.
+#include "order_audit.h"
 #include "simplifier.h"
 
 #include <algorithm>
@@ -200,6 +201,11 @@ bool Simplifier::rank_candidates(size_t& share) {
         ranked_.swap(fresh_);
     else
         detail::merge_candidates(ranked_, fresh_);
+    if (detail::OrderAudit& audit = detail::order_audit();
+        audit.on.load(std::memory_order_relaxed)) {
+        audit.rankings.fetch_add(1, std::memory_order_relaxed);
+        if (!order_is_afresh()) audit.mismatches.fetch_add(1, std::memory_order_relaxed);
+    }
     share = ranked_.empty()
                 ? 0
                 : std::max<size_t>(1, size_t(std::ceil(pass_share() * double(ranked_.size()))));

@@ -123,6 +123,9 @@ private:
     uint8_t rank_id(uint32_t id);
     // The key of a candidate that rank_id ranked.
     detail::Key key_of(uint32_t id) const;
+    // order_audit.cpp: whether ranked_ holds exactly the candidates, with the keys and in the
+    // order, that ranking every id afresh gives (the check that order_audit.h turns on).
+    bool order_is_afresh() const;
     // The ids marked stale, in id order, into stale_ids_.
     void gather_stale();
     // A ranking sorts its new places in place when they are more than the kept ones over this.
