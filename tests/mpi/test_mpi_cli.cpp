@@ -105,13 +105,13 @@ const Input& motorbike() { // a cutting plane: boundaries, non-manifold edges, d
     return input;
 }
 
-struct Case {
+struct CliCase {
     const char* name;
     const Input& (*input)();
     const char* options;
     Options single; // the same options for the single-process run
 };
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const CliCase& c, std::ostream* os) {
     *os << c.name;
 }
 
@@ -127,7 +127,7 @@ Options edge_collapse(double keep) {
     return o;
 }
 
-class FourRanks : public ::testing::TestWithParam<Case> {
+class FourRanks : public ::testing::TestWithParam<CliCase> {
 protected:
     void SetUp() override {
         if (!fs::exists(shared("volumes/carotid.vtk")))
@@ -135,7 +135,7 @@ protected:
     }
     // ddsimp-mpi on 4 ranks, output `name`, with the case's options.
     std::string run(const std::string& name, nlohmann::json* report = nullptr) {
-        const Case& c = GetParam();
+        const CliCase& c = GetParam();
         const std::string out = (scratch() / (std::string(c.name) + "_" + name)).string();
         const MpiRun r =
             run_mpi(4, "simplify " + c.input().path + " -o " + out + " " + c.options + " --json");
@@ -149,10 +149,10 @@ protected:
 INSTANTIATE_TEST_SUITE_P(
     Real, FourRanks,
     // One process reaches 20% on both (edge collapse stops near 15% on this isosurface).
-    ::testing::Values(Case{"carotid_edge", carotid, "--keep 0.2", edge_collapse(0.2)},
-                      Case{"carotid_vertex", carotid, "--keep 0.2 --strategy vertex",
+    ::testing::Values(CliCase{"carotid_edge", carotid, "--keep 0.2", edge_collapse(0.2)},
+                      CliCase{"carotid_vertex", carotid, "--keep 0.2 --strategy vertex",
                            vertex_removal(0.2)},
-                      Case{"motorbike_edge", motorbike, "--keep 0.2", edge_collapse(0.2)}),
+                      CliCase{"motorbike_edge", motorbike, "--keep 0.2", edge_collapse(0.2)}),
     [](const auto& info) { return std::string(info.param.name); });
 
 TEST_P(FourRanks, ReachesTheTargetKeepsTopologyAndFields) {

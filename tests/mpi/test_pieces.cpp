@@ -106,16 +106,16 @@ TEST(Weld, DifferentFieldsAreAnError) {
     EXPECT_THROW(mpi::weld_pieces({a, b}), std::runtime_error);
 }
 
-struct Case {
+struct PieceCase {
     const char* name;
     Surface (*make)();
     uint32_t parts;
 };
-void PrintTo(const Case& c, std::ostream* os) {
+void PrintTo(const PieceCase& c, std::ostream* os) {
     *os << c.name << "/" << c.parts;
 }
 
-class SimplifiedPieces : public ::testing::TestWithParam<std::tuple<Config, Case>> {};
+class SimplifiedPieces : public ::testing::TestWithParam<std::tuple<Config, PieceCase>> {};
 
 Surface torus_surface() {
     return with_test_fields(torus(48, 24));
@@ -141,11 +141,11 @@ Surface touching_grids() {
 
 INSTANTIATE_TEST_SUITE_P(All, SimplifiedPieces,
                          ::testing::Combine(::testing::ValuesIn(all_configs()),
-                                            ::testing::Values(Case{"torus", torus_surface, 4},
-                                                              Case{"sphere", sphere_surface, 3},
-                                                              Case{"annulus", annulus_surface, 4},
-                                                              Case{"two_grids", two_grids, 3},
-                                                              Case{"touching_grids", touching_grids,
+                                            ::testing::Values(PieceCase{"torus", torus_surface, 4},
+                                                              PieceCase{"sphere", sphere_surface, 3},
+                                                              PieceCase{"annulus", annulus_surface, 4},
+                                                              PieceCase{"two_grids", two_grids, 3},
+                                                              PieceCase{"touching_grids", touching_grids,
                                                                    6})),
                          [](const auto& info) {
                              return std::string(std::get<0>(info.param).name) + "_" +

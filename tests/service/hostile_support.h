@@ -190,6 +190,18 @@ inline v1::Error next_error(RawClient& c) {
     }
 }
 
+// A frame's header, as a client would write it before `length` bytes of payload.
+inline std::string header(v1::MessageType type, uint32_t length) {
+    unsigned char h[protocol::kHeaderBytes];
+    protocol::write_header(h, type, length);
+    return std::string(reinterpret_cast<char*>(h), sizeof h);
+}
+
+// Whether an error's message says `what`.
+inline bool says(const v1::Error& e, const std::string& what) {
+    return e.message().find(what) != std::string::npos;
+}
+
 inline v1::Hello hello_message() {
     v1::Hello h;
     h.set_protocol_version(1);

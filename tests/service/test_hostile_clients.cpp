@@ -40,12 +40,6 @@ protected:
     size_t baseline_ = 0;
 };
 
-std::string header(v1::MessageType type, uint32_t length) {
-    unsigned char h[protocol::kHeaderBytes];
-    protocol::write_header(h, type, length);
-    return std::string(reinterpret_cast<char*>(h), sizeof h);
-}
-
 // Random bytes (seeded: the same every run), never starting like a frame.
 TEST_F(HostileClients, GarbageBytesEndOnlyTheirOwnConnection) {
     start({});

@@ -145,10 +145,6 @@ v1::Error refused_upload(RawClient& c, const Surface& s, uint64_t id,
     return e;
 }
 
-bool says(const v1::Error& e, const std::string& what) {
-    return e.message().find(what) != std::string::npos;
-}
-
 // Every token (one per user, --tokens-file) and every session has its quota of stored surfaces
 // and of uploads in progress: what passes it is refused on its UploadBegin with a message that
 // says which quota, while the other users go on: uploads in progress on their UploadBegin, stored

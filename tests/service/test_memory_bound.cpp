@@ -9,12 +9,6 @@ namespace {
 
 constexpr size_t kFrameBytes = size_t(1) << 20;
 
-std::string header(v1::MessageType type, uint32_t length) {
-    unsigned char h[protocol::kHeaderBytes];
-    protocol::write_header(h, type, length);
-    return std::string(reinterpret_cast<char*>(h), sizeof h);
-}
-
 // docs/operations.md#memory, for the flags below, `clients` connections and two threads.
 double documented_total(double clients) {
     constexpr double MiB = 1 << 20, KiB = 1 << 10, T = 2;

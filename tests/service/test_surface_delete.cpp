@@ -32,10 +32,6 @@ v1::Error refused_after_bytes(RawClient& c, const Surface& s, uint64_t id) {
     return e;
 }
 
-bool says(const v1::Error& e, const std::string& what) {
-    return e.message().find(what) != std::string::npos;
-}
-
 struct Users {
     fs::path dir;
     std::vector<std::string> flags;

@@ -23,12 +23,6 @@ std::string corpus(const std::string& relative) {
     return std::string(DDSIMP_CORPUS) + "/" + relative;
 }
 
-std::string all(const io::Notes& notes) {
-    std::string out;
-    for (const std::string& n : notes) out += n + "\n";
-    return out;
-}
-
 // Counted from each file (its faces and their corners) apart from the reader under test.
 const std::vector<CorpusFile> kFiles = {
     {"assimp/Cube.off", 12, "6 quads triangulated into 12 triangles"},

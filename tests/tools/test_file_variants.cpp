@@ -47,12 +47,6 @@ bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
 }
 
-std::string all(const io::Notes& notes) {
-    std::string out;
-    for (const std::string& n : notes) out += n + "\n";
-    return out;
-}
-
 // The surface read from a file made of `grid`: its points (in the grid's order, unless the
 // format numbers them itself), and every quad covered by two triangles facing +z.
 void expect_grid(const Surface& s, const QuadGrid& grid, bool grid_order = true) {

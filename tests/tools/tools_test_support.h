@@ -7,8 +7,16 @@
 #include <filesystem>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 namespace ddsimp::tools_test {
+
+// A reader's notes (io::Notes), one per line: what a failed expectation prints or searches.
+inline std::string all(const std::vector<std::string>& notes) {
+    std::string out;
+    for (const std::string& n : notes) out += n + "\n";
+    return out;
+}
 
 inline std::string shared_data(const std::string& relative) {
     return std::string(DDSIMP_SHARED_DATA) + "/" + relative;
