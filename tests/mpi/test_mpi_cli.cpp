@@ -151,7 +151,7 @@ INSTANTIATE_TEST_SUITE_P(
     // One process reaches 20% on both (edge collapse stops near 15% on this isosurface).
     ::testing::Values(CliCase{"carotid_edge", carotid, "--keep 0.2", edge_collapse(0.2)},
                       CliCase{"carotid_vertex", carotid, "--keep 0.2 --strategy vertex",
-                           vertex_removal(0.2)},
+                              vertex_removal(0.2)},
                       CliCase{"motorbike_edge", motorbike, "--keep 0.2", edge_collapse(0.2)}),
     [](const auto& info) { return std::string(info.param.name); });
 

@@ -139,19 +139,18 @@ Surface touching_grids() {
     return with_test_fields(s);
 }
 
-INSTANTIATE_TEST_SUITE_P(All, SimplifiedPieces,
-                         ::testing::Combine(::testing::ValuesIn(all_configs()),
-                                            ::testing::Values(PieceCase{"torus", torus_surface, 4},
-                                                              PieceCase{"sphere", sphere_surface, 3},
-                                                              PieceCase{"annulus", annulus_surface, 4},
-                                                              PieceCase{"two_grids", two_grids, 3},
-                                                              PieceCase{"touching_grids", touching_grids,
-                                                                   6})),
-                         [](const auto& info) {
-                             return std::string(std::get<0>(info.param).name) + "_" +
-                                    std::get<1>(info.param).name + "_" +
-                                    std::to_string(std::get<1>(info.param).parts);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    All, SimplifiedPieces,
+    ::testing::Combine(::testing::ValuesIn(all_configs()),
+                       ::testing::Values(PieceCase{"torus", torus_surface, 4},
+                                         PieceCase{"sphere", sphere_surface, 3},
+                                         PieceCase{"annulus", annulus_surface, 4},
+                                         PieceCase{"two_grids", two_grids, 3},
+                                         PieceCase{"touching_grids", touching_grids, 6})),
+    [](const auto& info) {
+        return std::string(std::get<0>(info.param).name) + "_" + std::get<1>(info.param).name +
+               "_" + std::to_string(std::get<1>(info.param).parts);
+    });
 
 // Each piece simplified as far as it goes with its locks, then stitched: every border vertex is
 // still there, in its place, and the stitched surface has the input's topology, with no new
