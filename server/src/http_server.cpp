@@ -150,7 +150,7 @@ private:
 };
 
 // Tells a refused client why (503), if its socket takes it at once, then lets it go.
-void refuse(tcp::socket& socket, const std::string& why, bool tls) {
+void refuse_with_503(tcp::socket& socket, const std::string& why, bool tls) {
     if (tls) return; // nothing can be said before a handshake
     boost::system::error_code ignored;
     socket.non_blocking(true, ignored);
@@ -214,7 +214,7 @@ PortProtocol HttpServer::protocol() {
                 ->start();
     };
     p.refuse = [tls = tls_ != nullptr](tcp::socket& socket, const std::string& why) {
-        refuse(socket, why, tls);
+        refuse_with_503(socket, why, tls);
     };
     return p;
 }

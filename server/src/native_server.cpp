@@ -10,7 +10,7 @@ namespace ddsimp::server {
 namespace {
 
 // Tells a refused client why in an Error frame, if its socket takes it at once, then lets it go.
-void refuse(tcp::socket& socket, const std::string& why, bool tls) {
+void refuse_with_error_frame(tcp::socket& socket, const std::string& why, bool tls) {
     if (tls) return; // nothing can be said before a handshake
     boost::system::error_code ignored;
     socket.non_blocking(true, ignored);
@@ -64,7 +64,9 @@ PortProtocol native_protocol(Service& service, asio::ssl::context* tls) {
     p.serve = [&service, tls](tcp::socket socket, std::string peer, Slot slot) {
         serve(service, tls, std::move(socket), std::move(peer), std::move(slot));
     };
-    p.refuse = [tls](tcp::socket& socket, const std::string& why) { refuse(socket, why, tls); };
+    p.refuse = [tls](tcp::socket& socket, const std::string& why) {
+        refuse_with_error_frame(socket, why, tls);
+    };
     return p;
 }
 

@@ -31,7 +31,7 @@ bool Simplifier::order_is_afresh() const {
                 continue;
             key = {raised_[id] ? edge_weight_[id] : collapse_key(id).weight, edge_length(id)};
         } else {
-            if (mesh_.kind[id] == detail::VertexKind::Dead || !removable(id)) continue;
+            if (!removable(id)) continue; // a dead vertex is not removable
             key = removal_key(id);
         }
         if (!std::isinf(key.weight)) afresh.push_back(detail::Candidate::make(key, id));

@@ -14,7 +14,7 @@ struct OrderAudit {
     std::atomic<size_t> rankings{0}, mismatches{0};
 };
 
-// The one audit of the process (runs on any thread add to its counts).
+// The one audit of the process: the runs of every thread add to its counts.
 OrderAudit& order_audit();
 
 } // namespace ddsimp::detail
