@@ -1,6 +1,6 @@
 // The order of the candidates kept between passes: after every ranking of a run it must be the
 // order that ranking every id afresh gives (order_audit.h), whatever the strategy, placement,
-// terms and thread count, on surfaces with boundaries, feature lines, waits and refusals.
+// terms and thread count, on surfaces with boundaries, holes, feature lines and thin parts.
 #include "order_audit.h"
 #include "test_surfaces.h"
 
