@@ -37,10 +37,7 @@ bool Simplifier::order_is_afresh() const {
         if (!std::isinf(key.weight)) afresh.push_back(detail::Candidate::make(key, id));
     }
     std::sort(afresh.begin(), afresh.end());
-    auto same = [](const detail::Candidate& x, const detail::Candidate& y) {
-        return x.id == y.id && x.weight_bits == y.weight_bits && x.tie_bits == y.tie_bits;
-    };
-    return std::equal(afresh.begin(), afresh.end(), ranked_.begin(), ranked_.end(), same);
+    return std::equal(afresh.begin(), afresh.end(), ranked_.begin(), ranked_.end());
 }
 
 } // namespace ddsimp

@@ -41,6 +41,7 @@ struct Candidate {
     static Candidate make(const Key& k, uint32_t id) {
         return {bits(k.weight), bits(k.tie) >> 16, id};
     }
+    bool operator==(const Candidate&) const = default;
     bool operator<(const Candidate& o) const {
         return weight_bits != o.weight_bits ? weight_bits < o.weight_bits
                : tie_bits != o.tie_bits     ? tie_bits < o.tie_bits
