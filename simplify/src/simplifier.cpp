@@ -224,7 +224,7 @@ void Simplifier::publish_selected(bool over) {
         if (collapse)
             plans_.emplace_back();
         else
-            removals_.emplace_back();
+            removals_.add_slot();
         if (selected_.size() % kCheckBatch != 0) return;
     }
     published_.store(selected_.size() | (over ? kWalkOver : 0), std::memory_order_release);
@@ -251,7 +251,7 @@ void Simplifier::check_published(size_t first, std::atomic<size_t>& claimed,
         for (size_t i = begin; i < end; ++i) {
             const detail::Candidate& c = ranked_[selected_[i]];
             checked_[first + i] = collapse ? check_collapse(c.id, c.weight(), plans_[first + i])
-                                           : check_removal(c.id, removals_[first + i]);
+                                           : check_removal(c.id, first + i);
         }
         since_progress += end - begin;
         if (calling && since_progress >= kBlock) {
@@ -299,11 +299,11 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     // A candidate is selected once a pass at most: room for the share's plans (pages never
     // written cost nothing), so that neither a round's plans nor the walk's move those that
     // checks are writing.
-    plans_.clear(), removals_.clear();
+    plans_.clear();
     if (collapse)
         plans_.reserve(share);
     else
-        removals_.reserve(share);
+        removals_.reset(share);
     for (uint32_t i = 0; i < share && ranked_[i].weight() <= options_.max_weight; ++i)
         pending_.push_back(i);
     checked_.clear();
@@ -348,10 +348,10 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         if (collapse) {
             removed = mesh_.twin[plans_[t].halfedge] != kNone ? 2 : 1;
         } else {
-            const Removal& r = removals_[t];
-            removed = r.slots() - r.new_count;
+            const size_t slots = removals_.slots_of(t);
+            removed = slots - removals_.new_count_of(t);
             write_at_.push_back(uint32_t(writes));
-            writes += 4 * r.slots();
+            writes += 4 * slots;
             record_.write_begin_.push_back(uint32_t(writes));
         }
         live -= removed;
@@ -373,7 +373,9 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
             if (collapse) {
                 apply_collapse(plans_[t], operations_ + j);
             } else {
-                apply_removal(removals_[t], operations_ + j, write_at_[j]);
+                Removal removal;
+                removals_.get(t, removal);
+                apply_removal(removal, operations_ + j, write_at_[j]);
             }
         }
     });

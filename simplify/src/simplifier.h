@@ -82,6 +82,42 @@ private:
     };
     // The re-triangulation of a removed vertex's star, with what planning it reads; filled by
     // plan_removal.
+    // A pass's removals that their checks took, each packed into the room its ring needs: a
+    // Removal has room for kMaxValence neighbours (1.1 kB), a typical one needs 150 bytes, so the
+    // pages a pass writes follow the removals it takes (removal_store.cpp). One slot per selected
+    // candidate, added by the selection walk in selection order; checks on any thread fill
+    // distinct slots.
+    class RemovalStore {
+    public:
+        RemovalStore() = default;
+        RemovalStore(const RemovalStore&) = delete;
+        RemovalStore& operator=(const RemovalStore&) = delete;
+        ~RemovalStore();
+        // Empty, with room for `slots` slots and each slot's largest removal (reserved, not
+        // written, until a check stores one).
+        void reset(size_t slots);
+        void add_slot() { at_.push_back(kEmpty); }
+        size_t size() const { return at_.size(); }
+        // Stores a taken removal in `slot`.
+        void put(size_t slot, const Removal& removal);
+        // Unpacks the removal of `slot` into `removal` (what apply_removal reads).
+        void get(size_t slot, Removal& removal) const;
+        // The triangle slots the removal of `slot` rewrites (Removal::slots) and the triangles it
+        // makes (Removal::new_count).
+        size_t slots_of(size_t slot) const;
+        size_t new_count_of(size_t slot) const;
+
+    private:
+        static constexpr uint32_t kEmpty = 0xffffffffu;
+        // Words of a removal's header (vertex; ring size, new triangles, boundary, the feature
+        // ends, the cover's count and corners; the cover's three weights).
+        static constexpr size_t kHeader = 4 + 6;
+        static size_t words_for(size_t ring_size, size_t new_count);
+        std::vector<uint32_t> at_; // per slot: where its removal begins in words_, or kEmpty
+        uint32_t* words_ = nullptr;
+        size_t capacity_ = 0;
+        std::atomic<size_t> used_{0};
+    };
     struct RemovalPlan : Removal {
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
         bool star_faces_along;                 // every star triangle faces its corners' way
@@ -244,8 +280,8 @@ private:
                                const double (*xy)[2], Cover& cover) const;
     // Applies a planned removal as the record's operation `index`, its writes from `write_at`.
     void apply_removal(const Removal& plan, size_t index, size_t write_at);
-    // Taken: `removal` holds what applying it needs.
-    Check check_removal(uint32_t v, Removal& removal);
+    // Taken: removals_ holds what applying it needs in `slot`.
+    Check check_removal(uint32_t v, size_t slot);
 
     Options options_;
     detail::Parallel parallel_;
@@ -317,7 +353,7 @@ private:
     std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
     std::vector<Check> checked_;
     detail::Array<CollapsePlan> plans_;
-    detail::Array<Removal> removals_;
+    RemovalStore removals_;
     // The operations a pass takes: (rank in ranked_, index into plans_ or removals_), sorted by
     // rank; then where each removal's writes go in the record.
     std::vector<std::pair<uint32_t, uint32_t>> taken_;

@@ -493,7 +493,7 @@ void Simplifier::apply_removal(const Removal& plan, size_t index, size_t write_a
     refresh_around(plan.ring, n, n);
 }
 
-Simplifier::Check Simplifier::check_removal(uint32_t v, Removal& removal) {
+Simplifier::Check Simplifier::check_removal(uint32_t v, size_t slot) {
     RemovalPlan plan;
     if (!plan_removal(v, plan)) {
         fail_[v] = pass_; // no candidate until its star changes
@@ -508,7 +508,7 @@ Simplifier::Check Simplifier::check_removal(uint32_t v, Removal& removal) {
         mark_stale(v); // ranked again with that key
         return Check::Waits;
     }
-    removal = plan;
+    removals_.put(slot, plan);
     return Check::Taken;
 }
 
