@@ -59,7 +59,7 @@ void Simplifier::RemovalStore::put(size_t slot, const Removal& r) {
     auto* bytes = reinterpret_cast<uint8_t*>(w + 3 * n);
     std::memcpy(bytes, r.outer_line, fan);
     std::memcpy(bytes + n, r.triangles, 3 * r.new_count);
-    at_[slot] = uint32_t(begin);
+    at_[slot] = begin;
 }
 
 void Simplifier::RemovalStore::get(size_t slot, Removal& r) const {

@@ -80,8 +80,6 @@ private:
         // fewer than its ring.
         size_t slots() const { return boundary ? ring_size - 1 : ring_size; }
     };
-    // The re-triangulation of a removed vertex's star, with what planning it reads; filled by
-    // plan_removal.
     // A pass's removals that their checks took, each packed into the room its ring needs: a
     // Removal has room for kMaxValence neighbours (1.1 kB), a typical one needs 150 bytes, so the
     // pages a pass writes follow the removals it takes (removal_store.cpp). One slot per selected
@@ -108,16 +106,18 @@ private:
         size_t new_count_of(size_t slot) const;
 
     private:
-        static constexpr uint32_t kEmpty = 0xffffffffu;
+        static constexpr size_t kEmpty = ~size_t(0);
         // Words of a removal's header (vertex; ring size, new triangles, boundary, the feature
         // ends, the cover's count and corners; the cover's three weights).
         static constexpr size_t kHeader = 4 + 6;
         static size_t words_for(size_t ring_size, size_t new_count);
-        std::vector<uint32_t> at_; // per slot: where its removal begins in words_, or kEmpty
+        std::vector<size_t> at_; // per slot: where its removal begins in words_, or kEmpty
         uint32_t* words_ = nullptr;
         size_t capacity_ = 0;
         std::atomic<size_t> used_{0};
     };
+    // The re-triangulation of a removed vertex's star, with what planning it reads; filled by
+    // plan_removal.
     struct RemovalPlan : Removal {
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
         bool star_faces_along;                 // every star triangle faces its corners' way

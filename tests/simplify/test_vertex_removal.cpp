@@ -103,6 +103,27 @@ TEST(VertexRemoval, OctagonFanLosesItsCentre) {
     EXPECT_TRUE(exact_subset(in, r.surface));
 }
 
+// A removal is kept between its check and its application packed at its ring's size: a flat fan
+// of 60 (near the largest ring a removal takes) loses its centre like the octagon, with its 60-gon
+// re-triangulated into 58 triangles. The rim's 6-degree turns are kept by a line tolerance of 1.
+TEST(VertexRemoval, SixtyFanLosesItsCentre) {
+    Surface in = with_test_fields(fan(60));
+    Options o = removal();
+    o.keep_fraction = 0.0;
+    o.line_tolerance = 1.0;
+    Result r = simplify(in, o);
+    EXPECT_EQ(r.stop, StopReason::NothingRemovable);
+    EXPECT_EQ(r.operations, 1u);
+    EXPECT_EQ(r.triangles_out, 58u);
+    ASSERT_EQ(r.surface.vertex_count(), 60u);
+    EXPECT_FALSE(has_vertex_at(r.surface, {0, 0, 0}));
+    for (size_t t = 0; t < r.surface.triangle_count(); ++t)
+        EXPECT_GT(triangle_normal(r.surface, t)[2], 0);
+    EXPECT_NEAR(total_area(r.surface), 30 * std::sin(2 * M_PI / 60), 1e-5);
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(r.surface)));
+    EXPECT_TRUE(exact_subset(in, r.surface));
+}
+
 // max_normal_turn: a hexagonal pyramid with its apex 0.3 above a unit hexagon. Each face rises
 // over the apothem cos 30 = 0.866 by 0.3: tilted atan(0.3 / 0.866) = 19.1 degrees from +z.
 // Removing the apex replaces them with flat triangles (normal +z): a turn of 19.1 degrees.
