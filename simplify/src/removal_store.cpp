@@ -62,14 +62,20 @@ void Simplifier::RemovalStore::put(size_t slot, const Removal& r) {
     at_[slot] = begin;
 }
 
+Simplifier::RemovalStore::Shape Simplifier::RemovalStore::shape(size_t slot) const {
+    const uint32_t w = words_[at_[slot] + 1];
+    return {w & 0xff, w >> 8 & 0xff, w >> 17 & 3, (w >> 16 & 1) != 0};
+}
+
 void Simplifier::RemovalStore::get(size_t slot, Removal& r) const {
     const uint32_t* w = words_ + at_[slot];
+    const Shape s = shape(slot);
+    const size_t n = s.ring_size;
     r.vertex = w[0];
-    const size_t n = w[1] & 0xff;
     r.ring_size = n;
-    r.new_count = w[1] >> 8 & 0xff;
-    r.boundary = (w[1] >> 16 & 1) != 0;
-    r.cover.count = w[1] >> 17 & 3;
+    r.new_count = s.new_count;
+    r.boundary = s.boundary;
+    r.cover.count = s.cover_count;
     r.feature_a = int(w[2] & 0xff) - 1;
     r.feature_b = int(w[2] >> 8 & 0xff) - 1;
     for (int k = 0; k < 3; ++k) r.cover.corner[k] = uint8_t(w[3] >> (8 * k));
@@ -85,13 +91,12 @@ void Simplifier::RemovalStore::get(size_t slot, Removal& r) const {
 }
 
 size_t Simplifier::RemovalStore::slots_of(size_t slot) const {
-    const uint32_t shape = words_[at_[slot] + 1];
-    const size_t n = shape & 0xff;
-    return (shape >> 16 & 1) != 0 ? n - 1 : n;
+    const Shape s = shape(slot);
+    return s.boundary ? s.ring_size - 1 : s.ring_size;
 }
 
 size_t Simplifier::RemovalStore::new_count_of(size_t slot) const {
-    return words_[at_[slot] + 1] >> 8 & 0xff;
+    return shape(slot).new_count;
 }
 
 } // namespace ddsimp

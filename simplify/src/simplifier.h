@@ -111,6 +111,12 @@ private:
         // ends, the cover's count and corners; the cover's three weights).
         static constexpr size_t kHeader = 4 + 6;
         static size_t words_for(size_t ring_size, size_t new_count);
+        // The sizes in the header of the removal of `slot`.
+        struct Shape {
+            size_t ring_size, new_count, cover_count;
+            bool boundary;
+        };
+        Shape shape(size_t slot) const;
         std::vector<size_t> at_; // per slot: where its removal begins in words_, or kEmpty
         uint32_t* words_ = nullptr;
         size_t capacity_ = 0;

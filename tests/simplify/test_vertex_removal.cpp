@@ -83,45 +83,38 @@ TEST(VertexRemoval, EachRemovalTakesTwoTrianglesOnAClosedSurface) {
     EXPECT_EQ(r.surface.vertex_count() + r.operations, size_t(32 * 16));
 }
 
-// A flat octagon fan: the centre is interior and flat, removable; its octagonal hole is
-// re-triangulated with 8 - 2 = 6 triangles. The rim vertices are boundary corners (45 degrees >
-// 20) and stay. Result: exactly the 8 rim vertices, 6 triangles, all facing +z, area unchanged
-// (the octagon: 8 * 1/2 sin 45 = 2 sqrt 2).
-TEST(VertexRemoval, OctagonFanLosesItsCentre) {
-    Surface in = with_test_fields(fan(8));
+// A flat fan of n rim vertices (unit radius) loses its centre, interior and flat, and nothing
+// else (its rim vertices turn by more than `line_tolerance`): exactly the n rim vertices, the
+// n-gon re-triangulated into n - 2 triangles, all facing +z, its area n/2 sin(2 pi / n) unchanged,
+// the topology kept.
+void expect_fan_loses_only_its_centre(size_t n, double line_tolerance) {
+    Surface in = with_test_fields(fan(n));
     Options o = removal();
     o.keep_fraction = 0.0;
+    o.line_tolerance = line_tolerance;
     Result r = simplify(in, o);
     EXPECT_EQ(r.stop, StopReason::NothingRemovable);
-    EXPECT_EQ(r.triangles_out, 6u);
     EXPECT_EQ(r.operations, 1u);
-    ASSERT_EQ(r.surface.vertex_count(), 8u);
+    EXPECT_EQ(r.triangles_out, n - 2);
+    ASSERT_EQ(r.surface.vertex_count(), n);
     EXPECT_FALSE(has_vertex_at(r.surface, {0, 0, 0}));
     for (size_t t = 0; t < r.surface.triangle_count(); ++t)
         EXPECT_GT(triangle_normal(r.surface, t)[2], 0);
-    EXPECT_NEAR(total_area(r.surface), 2 * std::sqrt(2.0), 1e-5);
+    EXPECT_NEAR(total_area(r.surface), 0.5 * double(n) * std::sin(2 * M_PI / double(n)), 1e-5);
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(r.surface)));
     EXPECT_TRUE(exact_subset(in, r.surface));
 }
 
-// A removal is kept between its check and its application packed at its ring's size: a flat fan
-// of 60 (near the largest ring a removal takes) loses its centre like the octagon, with its 60-gon
-// re-triangulated into 58 triangles. The rim's 6-degree turns are kept by a line tolerance of 1.
+// An octagon: its rim vertices are boundary corners (45 degrees > the default tolerance, 20).
+TEST(VertexRemoval, OctagonFanLosesItsCentre) {
+    expect_fan_loses_only_its_centre(8, Options{}.line_tolerance);
+}
+
+// A removal is kept between its check and its application packed at its ring's size: a fan of
+// 60 (near the largest ring a removal takes); its rim's 6-degree turns are kept by a tolerance
+// of 1.
 TEST(VertexRemoval, SixtyFanLosesItsCentre) {
-    Surface in = with_test_fields(fan(60));
-    Options o = removal();
-    o.keep_fraction = 0.0;
-    o.line_tolerance = 1.0;
-    Result r = simplify(in, o);
-    EXPECT_EQ(r.stop, StopReason::NothingRemovable);
-    EXPECT_EQ(r.operations, 1u);
-    EXPECT_EQ(r.triangles_out, 58u);
-    ASSERT_EQ(r.surface.vertex_count(), 60u);
-    EXPECT_FALSE(has_vertex_at(r.surface, {0, 0, 0}));
-    for (size_t t = 0; t < r.surface.triangle_count(); ++t)
-        EXPECT_GT(triangle_normal(r.surface, t)[2], 0);
-    EXPECT_NEAR(total_area(r.surface), 30 * std::sin(2 * M_PI / 60), 1e-5);
-    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(r.surface)));
-    EXPECT_TRUE(exact_subset(in, r.surface));
+    expect_fan_loses_only_its_centre(60, 1.0);
 }
 
 // max_normal_turn: a hexagonal pyramid with its apex 0.3 above a unit hexagon. Each face rises
