@@ -1,4 +1,5 @@
 // Replaying a prefix of the recorded operations: every level of one run, without re-running.
+#include "data_refit.h"
 #include "simplifier.h"
 #include "validate.h"
 
@@ -60,18 +61,23 @@ Surface ProgressiveRecord::level(size_t triangles) const {
     return after(operations_for(triangles));
 }
 
+std::vector<uint32_t> ProgressiveRecord::collapse_map(size_t operations) const {
+    // Each collapse maps its two vertices to a vertex made later, so resolving the map from the
+    // newest vertex down settles every chain in one pass.
+    std::vector<uint32_t> map(input_vertices_ + operations);
+    for (uint32_t v = 0; v < map.size(); ++v) map[v] = v;
+    for (size_t i = 0; i < operations; ++i)
+        map[collapse_[2 * i]] = map[collapse_[2 * i + 1]] = uint32_t(input_vertices_ + i);
+    for (size_t v = map.size(); v-- > 0;)
+        if (map[v] != v) map[v] = map[map[v]];
+    return map;
+}
+
 std::vector<uint32_t> ProgressiveRecord::indexed_triangles(size_t operations) const {
     operations = std::min(operations, this->operations());
     std::vector<uint32_t> triangles = base_triangles_;
     if (strategy_ == Strategy::EdgeCollapse) {
-        // Each collapse maps its two vertices to a vertex made later, so resolving the map from
-        // the newest vertex down settles every chain in one pass.
-        std::vector<uint32_t> map(input_vertices_ + operations);
-        for (uint32_t v = 0; v < map.size(); ++v) map[v] = v;
-        for (size_t i = 0; i < operations; ++i)
-            map[collapse_[2 * i]] = map[collapse_[2 * i + 1]] = uint32_t(input_vertices_ + i);
-        for (size_t v = map.size(); v-- > 0;)
-            if (map[v] != v) map[v] = map[map[v]];
+        const std::vector<uint32_t> map = collapse_map(operations);
         size_t kept = 0;
         for (size_t t = 0; t < triangles.size(); t += 3) {
             const uint32_t a = map[triangles[t]], b = map[triangles[t + 1]],
@@ -90,6 +96,7 @@ std::vector<uint32_t> ProgressiveRecord::indexed_triangles(size_t operations) co
 }
 
 Surface ProgressiveRecord::after(size_t operations) const {
+    operations = std::min(operations, this->operations());
     std::vector<uint32_t> triangles = indexed_triangles(operations);
 
     // Keep the referenced vertices, in the order of their ids.
@@ -115,7 +122,34 @@ Surface ProgressiveRecord::after(size_t operations) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
+    if (strategy_ == Strategy::EdgeCollapse && !refit_components_.empty() && operations > 0)
+        refit(operations, index, out);
     return out;
+}
+
+void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& index,
+                              Surface& level) const {
+    const std::vector<uint32_t> map = collapse_map(operations);
+    detail::RefitInput input;
+    input.surface = &vertices_;
+    input.vertices = input_vertices_;
+    input.triangles = &base_triangles_;
+    input.components = refit_components_;
+    input.owner.resize(input_vertices_);
+    for (size_t v = 0; v < input_vertices_; ++v) input.owner[v] = index[map[v]];
+    // The points the run made are fitted; the input's own vertices and everything placed on a
+    // locked vertex keep their data.
+    std::vector<uint8_t> locked(map.size(), 0);
+    if (!locked_input_.empty()) {
+        std::copy(locked_input_.begin(), locked_input_.end(), locked.begin());
+        for (size_t i = 0; i < operations; ++i)
+            locked[input_vertices_ + i] = locked[collapse_[2 * i]] | locked[collapse_[2 * i + 1]];
+    }
+    input.free.assign(level.vertex_count(), 0);
+    for (size_t v = input_vertices_; v < map.size(); ++v)
+        if (index[v] != 0xffffffffu && !locked[v]) input.free[index[v]] = 1;
+    detail::Parallel parallel(threads_);
+    detail::refit_data(input, level, parallel);
 }
 
 } // namespace ddsimp

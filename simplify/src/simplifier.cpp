@@ -76,6 +76,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (collapse) fail_at_.assign(surface.triangles.size(), kNoFold);
 
     record_.strategy_ = options.strategy;
+    record_.threads_ = options.threads;
     record_.triangles_in_ = surface.triangle_count();
     record_.input_vertices_ = surface.vertex_count();
     record_.repairs_ = repairs;
@@ -89,6 +90,19 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (quadric_terms_ || least_error_)
         quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity,
                         parallel_);
+    if (collapse && least_data()) { // the level's points take these components' least squares
+        for (size_t j = 0; j < quadrics_.components; ++j) {
+            if (!quadrics_.continuous[j]) continue;
+            uint32_t field = 0, first = 0; // the field of data-record offset quadrics_.offset[j]
+            while (first + uint32_t(surface.fields[field].components) <= quadrics_.offset[j])
+                first += uint32_t(surface.fields[field++].components);
+            record_.refit_components_.emplace_back(field, quadrics_.offset[j] - first);
+        }
+        if (!mesh_.locked.empty()) {
+            record_.locked_input_.resize(n);
+            for (uint32_t v = 0; v < n; ++v) record_.locked_input_[v] = mesh_.locked[rank_[v]];
+        }
+    }
     if (!(collapse && quadric_terms_)) weight_.assign(capacity, 0);
     // The paper's terms, then their means over the vertices that can take part.
     std::vector<double> curvature(quadric_terms_ ? 0 : n), gradient(quadric_terms_ ? 0 : n);

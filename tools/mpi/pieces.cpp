@@ -113,33 +113,17 @@ std::vector<Piece> split_surface(const Surface& s, const std::vector<uint32_t>& 
 }
 
 ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record) {
-    const Surface& vertices = record.vertices();
-    std::vector<uint32_t> triangles = record.indexed_triangles(record.operations());
-    const size_t nv = vertices.vertex_count();
-    std::vector<uint32_t> index(nv, kNoId);
-    for (uint32_t v : triangles) index[v] = 0;
+    // after() keeps the vertices in the order of their ids: the kept ids, in order, say which
+    // output vertex each border vertex became.
+    const std::vector<uint32_t> triangles = record.indexed_triangles(record.operations());
+    std::vector<uint8_t> kept(record.vertices().vertex_count(), 0);
+    for (uint32_t v : triangles) kept[v] = 1;
     ReducedPiece out;
-    uint32_t count = 0;
-    for (size_t v = 0; v < nv; ++v) {
-        if (index[v] == kNoId) continue;
-        index[v] = count++;
-        out.surface.positions.insert(out.surface.positions.end(), &vertices.positions[3 * v],
-                                     &vertices.positions[3 * v] + 3);
-        out.border.push_back(v < piece.border.size() ? piece.border[v] : kNoId);
-    }
-    for (const Field& f : vertices.fields) {
-        Field g{f.name, f.components, {}, f.kind};
-        const size_t nc = size_t(f.components);
-        g.values.reserve(size_t(count) * nc);
-        for (size_t v = 0; v < nv; ++v)
-            if (index[v] != kNoId)
-                g.values.insert(g.values.end(), &f.values[v * nc], &f.values[v * nc] + nc);
-        out.surface.fields.push_back(std::move(g));
-    }
-    for (uint32_t& v : triangles) v = index[v];
-    out.surface.triangles = std::move(triangles);
+    out.surface = record.after(record.operations());
+    for (size_t v = 0; v < kept.size(); ++v)
+        if (kept[v]) out.border.push_back(v < piece.border.size() ? piece.border[v] : kNoId);
     for (size_t v = 0; v < piece.border.size(); ++v)
-        if (piece.border[v] != kNoId && index[v] == kNoId)
+        if (piece.border[v] != kNoId && !kept[v])
             throw std::runtime_error("border vertex " + std::to_string(piece.border[v]) +
                                      " was lost in its piece");
     return out;

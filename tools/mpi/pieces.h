@@ -41,8 +41,8 @@ struct ReducedPiece {
     std::vector<uint32_t> border;
 };
 
-// The piece after all the operations of `record` (built from piece.surface with piece.locked),
-// vertices in the order of their record ids like ProgressiveRecord::after. A border vertex's
+// The piece after all the operations of `record` (built from piece.surface with piece.locked):
+// ProgressiveRecord::after, whose vertices are in the order of their record ids. A border vertex's
 // neighbours are all locked, so no operation touches it and it keeps its id: it is found by that,
 // not by its coordinates (which need not be unique). Throws std::runtime_error if one is gone.
 ReducedPiece reduce_piece(const Piece& piece, const ProgressiveRecord& record);

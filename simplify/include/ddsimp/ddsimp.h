@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 18;
+inline constexpr int algorithm_version = 19;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -148,8 +148,13 @@ enum class DataPlacement {
     // value of least data error at the new point (the least-squares value of the two ends' error
     // quadrics, see Terms), clamped to the range of the two values it replaces, so that it never
     // overshoots them; other fields are interpolated, and a collapse onto a locked vertex
-    // (Options::locked) keeps its data. Needs the error quadrics (Terms::
-    // ErrorQuadrics or Placement::LeastError) and alpha < 1; otherwise as Interpolated.
+    // (Options::locked) keeps its data. Once the run is over, those components of the points it
+    // made are fitted again over the whole level: the least-squares fit of the level's
+    // interpolated data to the input's, both ways (each input vertex against the level, each
+    // level vertex against the input), clamped to the range of the values each point is fitted
+    // to; the input's own vertices and locked points keep theirs (docs/algorithm.md, "Edge
+    // collapse"). Needs the error quadrics (Terms::ErrorQuadrics or Placement::LeastError) and
+    // alpha < 1; otherwise as Interpolated.
     LeastError,
     // Interpolated at the new point's position along the edge (Frank & Lang); a Label field
     // takes the nearer end's value, a Direction field is scaled back to unit length.
@@ -292,7 +297,8 @@ public:
     // more is removable.
     static ProgressiveRecord build(const Surface& input, const Options& options);
 
-    // The surface after the first `operations` operations (0 = the repaired input).
+    // The surface after the first `operations` operations (0 = the repaired input), its data
+    // fitted over the level with edge collapse's least-error data (DataPlacement::LeastError).
     Surface after(size_t operations) const;
     // The surface at the first operation that leaves at most `triangles` triangles (or the
     // coarsest recorded if none does).
@@ -302,7 +308,9 @@ public:
 
     // Every vertex the record knows: the input's, then one per collapse (edge collapse only),
     // with every field. Vertex ids are stable across levels, so a renderer can refine a level
-    // into a finer one by sending only what changed (see indexed_triangles).
+    // into a finer one by sending only what changed (see indexed_triangles). A point's data is
+    // the one its collapse gave it, the same in every level: after() fits least-error data to
+    // each level anew.
     const Surface& vertices() const { return vertices_; }
     // The triangles after `operations` operations, in the ids of vertices(), in slot order.
     std::vector<uint32_t> indexed_triangles(size_t operations) const;
@@ -339,6 +347,16 @@ private:
     // vertex input_vertices + i.
     std::vector<uint32_t> collapse_;
     size_t input_vertices_ = 0;
+    // Edge collapse with DataPlacement::LeastError: the data components (field, component) that
+    // after() fits to the input over the whole level (data_refit.h), and which input vertices
+    // are locked (empty: none), whose data and that of the points placed on them stay.
+    std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
+    std::vector<uint8_t> locked_input_;
+    int threads_ = 0; // Options::threads, for the fit
+    // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
+    std::vector<uint32_t> collapse_map(size_t operations) const;
+    // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`).
+    void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;

@@ -1,0 +1,284 @@
+// Least-squares data for a level: the normal equations of the two-way sample fit, solved by
+// conjugate gradients.
+#include "data_refit.h"
+
+#include "working_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ddsimp::detail {
+namespace {
+
+Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
+    return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
+}
+
+// Where a sample lies on a triangle: the triangle and the weights of its corners.
+struct Landing {
+    uint32_t triangle = kNoOwner;
+    std::array<double, 3> weights{};
+};
+
+// Offsets of a compressed list: begin[i] .. begin[i + 1] for each i, from counts in begin[1..].
+void prefix_sum(std::vector<uint32_t>& begin) {
+    for (size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
+}
+
+// Conjugate gradients with the diagonal as preconditioner for A x = b, A symmetric positive
+// definite in compressed rows; x holds the first guess and gets the solution.
+void solve(const std::vector<uint32_t>& row_begin, const std::vector<uint32_t>& column,
+           const std::vector<double>& value, const std::vector<double>& b, std::vector<double>& x) {
+    const size_t n = b.size();
+    std::vector<double> r(n), z(n), p(n), ap(n), inverse_diagonal(n);
+    auto multiply = [&](const std::vector<double>& v, std::vector<double>& out) {
+        for (size_t i = 0; i < n; ++i) {
+            double s = 0;
+            for (uint32_t k = row_begin[i]; k < row_begin[i + 1]; ++k) s += value[k] * v[column[k]];
+            out[i] = s;
+        }
+    };
+    for (size_t i = 0; i < n; ++i)
+        for (uint32_t k = row_begin[i]; k < row_begin[i + 1]; ++k)
+            if (column[k] == i) inverse_diagonal[i] = 1 / value[k];
+    multiply(x, ap);
+    double bb = 0, rz = 0;
+    for (size_t i = 0; i < n; ++i) {
+        r[i] = b[i] - ap[i];
+        p[i] = z[i] = inverse_diagonal[i] * r[i];
+        rz += r[i] * z[i];
+        bb += b[i] * b[i];
+    }
+    // The values are stored as floats: a residual far below their precision changes nothing.
+    const double tolerance = 1e-14 * bb;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+        double rr = 0;
+        for (size_t i = 0; i < n; ++i) rr += r[i] * r[i];
+        if (rr <= tolerance || rz <= 0) break;
+        multiply(p, ap);
+        double pap = 0;
+        for (size_t i = 0; i < n; ++i) pap += p[i] * ap[i];
+        if (!(pap > 0)) break;
+        const double step = rz / pap;
+        double next_rz = 0;
+        for (size_t i = 0; i < n; ++i) {
+            x[i] += step * p[i];
+            r[i] -= step * ap[i];
+            z[i] = inverse_diagonal[i] * r[i];
+            next_rz += r[i] * z[i];
+        }
+        const double beta = next_rz / rz;
+        rz = next_rz;
+        for (size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+    }
+}
+
+} // namespace
+
+void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
+    const Surface& in = *input.surface;
+    const std::vector<uint32_t>& in_triangles = *input.triangles;
+    const size_t n = level.vertex_count(), nt = level.triangle_count();
+    const size_t ni = input.vertices, nc = input.components.size();
+    if (nc == 0 || n == 0) return;
+
+    // Each level vertex's star.
+    std::vector<uint32_t> star_begin(n + 1, 0), star(3 * nt);
+    for (uint32_t v : level.triangles) ++star_begin[v + 1];
+    prefix_sum(star_begin);
+    {
+        std::vector<uint32_t> fill(star_begin.begin(), star_begin.end() - 1);
+        for (size_t t = 0; t < nt; ++t)
+            for (int c = 0; c < 3; ++c) star[fill[level.triangles[3 * t + c]]++] = uint32_t(t);
+    }
+    auto corner_point = [&](uint32_t t, int c) {
+        return point_of(level.positions, level.triangles[3 * size_t(t) + size_t(c)]);
+    };
+
+    // Each input vertex lands on the closest point of its owner's star (first triangle on a tie);
+    // if that is on the star's rim, the closest point may lie beyond it, so the stars of the
+    // rim's vertices are searched too.
+    std::vector<Landing> forward(ni);
+    parallel.for_each(ni, [&](size_t i) {
+        const uint32_t k = input.owner[i];
+        if (k == kNoOwner) return;
+        const Vec3 p = point_of(in.positions, uint32_t(i));
+        double best = std::numeric_limits<double>::infinity();
+        auto search = [&](uint32_t v) {
+            for (uint32_t s = star_begin[v]; s < star_begin[v + 1]; ++s) {
+                const uint32_t t = star[s];
+                const ClosestPoint c = closest_on_triangle(p, corner_point(t, 0),
+                                                           corner_point(t, 1), corner_point(t, 2));
+                const Vec3 d = sub(c.point, p);
+                if (dot(d, d) < best) best = dot(d, d), forward[i] = {t, c.weights};
+            }
+        };
+        search(k);
+        const uint32_t* corner = &level.triangles[3 * size_t(forward[i].triangle)];
+        const int at = corner[0] == k ? 0 : corner[1] == k ? 1 : 2;
+        if (forward[i].weights[at] > 0) return;
+        for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s)
+            for (int c = 0; c < 3; ++c)
+                if (const uint32_t v = level.triangles[3 * size_t(star[s]) + c]; v != k) search(v);
+    });
+    // The samples on each level triangle, in input order.
+    std::vector<uint32_t> landed_begin(nt + 1, 0), landed;
+    for (const Landing& l : forward)
+        if (l.triangle != kNoOwner) ++landed_begin[l.triangle + 1];
+    prefix_sum(landed_begin);
+    landed.resize(landed_begin[nt]);
+    {
+        std::vector<uint32_t> fill(landed_begin.begin(), landed_begin.end() - 1);
+        for (size_t i = 0; i < ni; ++i)
+            if (forward[i].triangle != kNoOwner) landed[fill[forward[i].triangle]++] = uint32_t(i);
+    }
+
+    // Each free level vertex lands on the closest point of the input triangles it replaced (those
+    // with a corner it owns; the first on a tie).
+    // The distances on the threads, one per corner, then the least per vertex in triangle order.
+    std::vector<Landing> backward(n);
+    {
+        const size_t nti = in_triangles.size() / 3;
+        constexpr double kNotOwned = std::numeric_limits<double>::infinity();
+        std::vector<double> distance(3 * nti, kNotOwned);
+        auto corner_owner = [&](size_t t, int j) {
+            const uint32_t* c = &in_triangles[3 * t];
+            const uint32_t k = input.owner[c[j]];
+            const bool repeated =
+                (j > 0 && k == input.owner[c[0]]) || (j > 1 && k == input.owner[c[1]]);
+            return input.free[k] && !repeated ? k : kNoOwner;
+        };
+        auto closest = [&](size_t t, uint32_t k) {
+            const uint32_t* c = &in_triangles[3 * t];
+            return closest_on_triangle(point_of(level.positions, k), point_of(in.positions, c[0]),
+                                       point_of(in.positions, c[1]), point_of(in.positions, c[2]));
+        };
+        parallel.for_each(nti, [&](size_t t) {
+            for (int j = 0; j < 3; ++j)
+                if (const uint32_t k = corner_owner(t, j); k != kNoOwner) {
+                    const Vec3 e = sub(closest(t, k).point, point_of(level.positions, k));
+                    distance[3 * t + size_t(j)] = dot(e, e);
+                }
+        });
+        std::vector<double> best(n, kNotOwned);
+        for (size_t t = 0; t < nti; ++t)
+            for (int j = 0; j < 3; ++j)
+                if (distance[3 * t + size_t(j)] < kNotOwned) {
+                    const uint32_t k = input.owner[in_triangles[3 * t + size_t(j)]];
+                    if (distance[3 * t + size_t(j)] < best[k])
+                        best[k] = distance[3 * t + size_t(j)], backward[k].triangle = uint32_t(t);
+                }
+        parallel.for_each(n, [&](size_t k) {
+            if (backward[k].triangle != kNoOwner)
+                backward[k].weights = closest(backward[k].triangle, uint32_t(k)).weights;
+        });
+    }
+
+    // The unknowns: one per free vertex.
+    std::vector<uint32_t> unknown(n, kNoOwner), vertex_of;
+    for (size_t k = 0; k < n; ++k)
+        if (input.free[k])
+            unknown[k] = uint32_t(vertex_of.size()), vertex_of.push_back(uint32_t(k));
+    const size_t nu = vertex_of.size();
+    if (nu == 0) return;
+
+    // Field values by component: input value and level value of vertex v.
+    auto field_of = [&](const Surface& s, size_t j) -> const Field& {
+        return s.fields[input.components[j].first];
+    };
+    auto input_value = [&](uint32_t v, size_t j) {
+        const Field& f = field_of(in, j);
+        return double(f.values[size_t(v) * size_t(f.components) + input.components[j].second]);
+    };
+    auto level_value = [&](uint32_t v, size_t j) -> float& {
+        Field& f = level.fields[input.components[j].first];
+        return f.values[size_t(v) * size_t(f.components) + input.components[j].second];
+    };
+
+    // The normal equations, row by row: for free vertex k, the samples on its star weigh in with
+    // k's weight at them; its own backward sample adds 1 on the diagonal.
+    std::vector<uint32_t> row_begin(nu + 1, 0), column;
+    std::vector<double> value, rhs(nu * nc, 0), low(nu * nc), high(nu * nc);
+    std::vector<uint32_t> neighbours;
+    std::vector<double> weight_sum;
+    for (size_t u = 0; u < nu; ++u) {
+        const uint32_t k = vertex_of[u];
+        neighbours.clear();
+        for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s)
+            for (int c = 0; c < 3; ++c)
+                neighbours.push_back(level.triangles[3 * size_t(star[s]) + c]);
+        std::sort(neighbours.begin(), neighbours.end());
+        neighbours.erase(std::unique(neighbours.begin(), neighbours.end()), neighbours.end());
+        weight_sum.assign(neighbours.size(), 0);
+        auto slot = [&](uint32_t v) {
+            return size_t(std::lower_bound(neighbours.begin(), neighbours.end(), v) -
+                          neighbours.begin());
+        };
+        double* b = &rhs[u * nc];
+        double* lo = &low[u * nc];
+        double* hi = &high[u * nc];
+        std::fill_n(lo, nc, std::numeric_limits<double>::infinity());
+        std::fill_n(hi, nc, -std::numeric_limits<double>::infinity());
+        auto extend = [&](size_t j, double x) {
+            lo[j] = std::min(lo[j], x), hi[j] = std::max(hi[j], x);
+        };
+        for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s) {
+            const uint32_t t = star[s];
+            const uint32_t* corner = &level.triangles[3 * size_t(t)];
+            const int at = corner[0] == k ? 0 : corner[1] == k ? 1 : 2;
+            size_t slots[3];
+            for (int c = 0; c < 3; ++c) slots[c] = slot(corner[c]);
+            for (uint32_t l = landed_begin[t]; l < landed_begin[t + 1]; ++l) {
+                const uint32_t i = landed[l];
+                const std::array<double, 3>& w = forward[i].weights;
+                if (w[at] == 0) continue;
+                for (int c = 0; c < 3; ++c) weight_sum[slots[c]] += w[at] * w[c];
+                for (size_t j = 0; j < nc; ++j) {
+                    const double f = input_value(i, j);
+                    b[j] += w[at] * f;
+                    extend(j, f);
+                }
+            }
+        }
+        if (backward[k].triangle != kNoOwner) {
+            weight_sum[slot(k)] += 1;
+            const uint32_t* corner = &in_triangles[3 * size_t(backward[k].triangle)];
+            for (size_t j = 0; j < nc; ++j) {
+                double g = 0;
+                for (int c = 0; c < 3; ++c) g += backward[k].weights[c] * input_value(corner[c], j);
+                b[j] += g;
+                extend(j, g);
+            }
+        }
+        // A vertex no sample reaches keeps its value (and is not written: its range is empty).
+        if (weight_sum[slot(k)] == 0) {
+            weight_sum[slot(k)] = 1;
+            for (size_t j = 0; j < nc; ++j) b[j] = double(level_value(k, j));
+        }
+        for (size_t m = 0; m < neighbours.size(); ++m) {
+            if (weight_sum[m] == 0) continue;
+            const uint32_t v = neighbours[m];
+            if (unknown[v] == kNoOwner) { // a fixed value: known, so it moves to the right side
+                for (size_t j = 0; j < nc; ++j) b[j] -= weight_sum[m] * double(level_value(v, j));
+                continue;
+            }
+            column.push_back(unknown[v]);
+            value.push_back(weight_sum[m]);
+        }
+        row_begin[u + 1] = uint32_t(column.size());
+    }
+
+    std::vector<double> b(nu), x(nu);
+    for (size_t j = 0; j < nc; ++j) {
+        for (size_t u = 0; u < nu; ++u) b[u] = rhs[u * nc + j], x[u] = level_value(vertex_of[u], j);
+        solve(row_begin, column, value, b, x);
+        for (size_t u = 0; u < nu; ++u) {
+            if (!(low[u * nc + j] <= high[u * nc + j])) continue; // no sample: keeps its value
+            level_value(vertex_of[u], j) =
+                float(std::clamp(x[u], low[u * nc + j], high[u * nc + j]));
+        }
+    }
+}
+
+} // namespace ddsimp::detail

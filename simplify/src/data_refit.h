@@ -1,0 +1,39 @@
+// The data of an edge-collapse level fitted to the input by least squares, over the whole level
+// at once (docs/algorithm.md, "The data of a level").
+#pragma once
+
+#include "ddsimp/ddsimp.h"
+#include "parallel.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+inline constexpr uint32_t kNoOwner = 0xffffffffu;
+
+// Which of a level's vertices and data components the fit sets, and what it fits them to.
+struct RefitInput {
+    // The repaired input: its vertices are the first `vertices` of `surface` (a record's
+    // vertices, whose fields hold the input's values first), its triangles `triangles`.
+    const Surface* surface = nullptr;
+    size_t vertices = 0;
+    const std::vector<uint32_t>* triangles = nullptr;
+    // Per input vertex: the level's vertex it went into, or kNoOwner if no triangle uses it.
+    std::vector<uint32_t> owner;
+    // Per level vertex: whether the fit sets its data (a point the run made, not a locked one);
+    // the others keep theirs and the fit works around them.
+    std::vector<uint8_t> free;
+    // The components fitted, as (field index, component) pairs.
+    std::vector<std::pair<uint32_t, uint32_t>> components;
+};
+
+// Sets the free vertices' data of `level` so that, over both sets of samples at once, the squared
+// data differences are least: each input vertex against the level's data interpolated at the
+// closest point of its owner's star, and each level vertex against the input's data interpolated
+// at the closest point of the input triangles it replaced. Each value is then clamped to the range
+// of the samples it was fitted to, so it never overshoots the data it stands for. The same bytes
+// for any number of threads.
+void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
+
+} // namespace ddsimp::detail

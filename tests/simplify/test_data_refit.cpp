@@ -1,0 +1,129 @@
+// The data of an edge-collapse level fitted to the input over the whole level (data_refit.h):
+// it lowers the two-way data error below the collapses' own values, stays within the data's
+// range, and leaves the input's own and locked vertices' data as they were.
+#include "data_refit.h"
+#include "test_surfaces.h"
+#include "working_mesh.h"
+
+#include <cmath>
+#include <limits>
+
+namespace ddsimp::test {
+namespace {
+
+// A sphere with a field that varies faster than the reduced surface can follow.
+Surface wavy_sphere() {
+    Surface s = icosphere(4); // 5120 triangles
+    add_field(s, "wave", 1, [](const Vec3& p) {
+        return std::vector<double>{std::sin(4 * p[0]) * std::cos(3 * p[1]) + p[2] * p[2]};
+    });
+    return s;
+}
+
+Options collapse_to(double keep) {
+    Options o;
+    o.strategy = Strategy::EdgeCollapse;
+    o.alpha = 0.0;
+    o.keep_fraction = keep;
+    o.threads = 1;
+    return o;
+}
+
+// The field's value at the point of `s` closest to p (every triangle tried).
+double value_at_closest(const Surface& s, const Field& f, const Vec3& p) {
+    double best = std::numeric_limits<double>::infinity(), value = 0;
+    for (size_t t = 0; t < s.triangle_count(); ++t) {
+        const auto c = corners(s, t);
+        const detail::ClosestPoint q =
+            detail::closest_on_triangle(p, position(s, c[0]), position(s, c[1]), position(s, c[2]));
+        const Vec3 d = q.point - p;
+        if (dot(d, d) < best) {
+            best = dot(d, d);
+            value = 0;
+            for (int k = 0; k < 3; ++k) value += q.weights[size_t(k)] * f.values[c[size_t(k)]];
+        }
+    }
+    return value;
+}
+
+// The RMS of the data differences over both sets of samples: every vertex of each surface
+// against the other's data at its closest point.
+double two_way_data_rms(const Surface& input, const Surface& level) {
+    const Field& fi = input.fields[0];
+    const Field& fl = level.fields[0];
+    double sum = 0;
+    for (size_t v = 0; v < input.vertex_count(); ++v)
+        sum += std::pow(fi.values[v] - value_at_closest(level, fl, position(input, v)), 2);
+    for (size_t v = 0; v < level.vertex_count(); ++v)
+        sum += std::pow(fl.values[v] - value_at_closest(input, fi, position(level, v)), 2);
+    return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
+}
+
+// The level with the data its collapses made, as the record's stable vertices carry it.
+Surface with_collapse_data(const ProgressiveRecord& record, size_t operations) {
+    const std::vector<uint32_t> ids = record.indexed_triangles(operations);
+    Surface out = record.after(operations);
+    const Field& made = record.vertices().fields[0];
+    for (size_t c = 0; c < ids.size(); ++c)
+        out.fields[0].values[out.triangles[c]] = made.values[ids[c]];
+    return out;
+}
+
+TEST(DataRefit, LowersTheTwoWayDataError) {
+    const Surface in = wavy_sphere();
+    for (double keep : {0.2, 0.05}) {
+        const ProgressiveRecord record = ProgressiveRecord::build(in, collapse_to(0));
+        const size_t operations = record.operations_for(size_t(keep * in.triangle_count()));
+        const double fitted = two_way_data_rms(in, record.after(operations));
+        const double collapsed = two_way_data_rms(in, with_collapse_data(record, operations));
+        EXPECT_LT(fitted, 0.97 * collapsed) << "keep " << keep;
+    }
+}
+
+TEST(DataRefit, StaysWithinTheDataRange) {
+    const Surface in = wavy_sphere();
+    const auto [lo, hi] =
+        std::minmax_element(in.fields[0].values.begin(), in.fields[0].values.end());
+    const Result r = simplify(in, collapse_to(0.05));
+    for (float x : r.surface.fields[0].values) {
+        EXPECT_GE(x, *lo);
+        EXPECT_LE(x, *hi);
+    }
+}
+
+// Every output vertex that sits where an input vertex does (never moved: the input's own, or
+// locked) has that vertex's data.
+TEST(DataRefit, KeepsTheInputsAndTheLockedVerticesData) {
+    const Surface in = wavy_sphere();
+    Options o = collapse_to(0.1);
+    o.locked.assign(in.vertex_count(), 0);
+    for (size_t v = 0; v < in.vertex_count(); v += 7) o.locked[v] = 1;
+    const Result r = simplify(in, o);
+    size_t locked_seen = 0;
+    for (size_t v = 0; v < in.vertex_count(); ++v) {
+        if (!o.locked[v]) continue;
+        for (size_t w = 0; w < r.surface.vertex_count(); ++w) {
+            if (position(r.surface, w)[0] != position(in, v)[0] ||
+                position(r.surface, w)[1] != position(in, v)[1] ||
+                position(r.surface, w)[2] != position(in, v)[2])
+                continue;
+            EXPECT_EQ(r.surface.fields[0].values[w], in.fields[0].values[v]) << "vertex " << v;
+            ++locked_seen;
+        }
+    }
+    EXPECT_GT(locked_seen, in.vertex_count() / 8);
+}
+
+// Interpolated data is the paper's rule along the edge and is not fitted: a level's data is the
+// record's, vertex for vertex.
+TEST(DataRefit, LeavesInterpolatedDataAlone) {
+    const Surface in = wavy_sphere();
+    Options o = collapse_to(0);
+    o.data_placement = DataPlacement::Interpolated;
+    const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+    const size_t operations = record.operations_for(in.triangle_count() / 10);
+    EXPECT_TRUE(same_bytes(record.after(operations), with_collapse_data(record, operations)));
+}
+
+} // namespace
+} // namespace ddsimp::test
