@@ -115,6 +115,7 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
             }
         };
         search(k);
+        if (forward[i].triangle == kNoOwner) return; // a vertex with no triangles (none are kept)
         const uint32_t* corner = &level.triangles[3 * size_t(forward[i].triangle)];
         const int at = corner[0] == k ? 0 : corner[1] == k ? 1 : 2;
         if (forward[i].weights[at] > 0) return;
@@ -135,8 +136,8 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     }
 
     // Each free level vertex lands on the closest point of the input triangles it replaced (those
-    // with a corner it owns; the first on a tie).
-    // The distances on the threads, one per corner, then the least per vertex in triangle order.
+    // with a corner it owns; the first on a tie): the distances on the threads, one per corner,
+    // then the least per vertex in triangle order.
     std::vector<Landing> backward(n);
     {
         const size_t nti = in_triangles.size() / 3;
