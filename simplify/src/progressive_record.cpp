@@ -96,6 +96,14 @@ std::vector<uint32_t> ProgressiveRecord::indexed_triangles(size_t operations) co
 }
 
 Surface ProgressiveRecord::after(size_t operations) const {
+    return level_after(operations, true);
+}
+
+Surface ProgressiveRecord::after_as_recorded(size_t operations) const {
+    return level_after(operations, false);
+}
+
+Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     operations = std::min(operations, this->operations());
     std::vector<uint32_t> triangles = indexed_triangles(operations);
 
@@ -122,7 +130,8 @@ Surface ProgressiveRecord::after(size_t operations) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
-    if (strategy_ == Strategy::EdgeCollapse && !refit_components_.empty() && operations > 0)
+    if (fit_data && strategy_ == Strategy::EdgeCollapse && !refit_components_.empty() &&
+        operations > 0)
         refit(operations, index, out);
     return out;
 }

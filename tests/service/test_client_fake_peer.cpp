@@ -103,10 +103,9 @@ TEST(ClientFakePeer, HelloOffersCapabilitiesAndOnlyAgreedOnesAreUsed) {
     EXPECT_EQ(hello.protocol_version(), 1u);
     EXPECT_EQ(hello.client_name(), "fake-peer test");
     EXPECT_EQ(hello.kind(), v1::VR);
-    EXPECT_EQ(
-        std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
-        (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys",
-                                  "previews", "surface-delete"}));
+    EXPECT_EQ(std::vector<std::string>(hello.capabilities().begin(), hello.capabilities().end()),
+              (std::vector<std::string>{"meshopt-codec", "progressive", "sessions", "session-keys",
+                                        "previews", "surface-delete"}));
 }
 
 TEST(ClientFakePeer, TokenIsSentWhenAskedAndARefusalCarriesTheServersMessage) {
@@ -277,8 +276,13 @@ TEST_P(ClientLevels, EveryLevelArrivesAsTheServerEncodedIt) {
     EXPECT_EQ(seen.progressive(), param.progressive);
     EXPECT_EQ(seen.encoding(), param.encoding);
     EXPECT_EQ(arrival, (std::vector<uint32_t>{1, 0}));
-    const Surface expected_coarse = rec.after(rec.operations_for(512));
-    const Surface expected_fine = rec.after(rec.operations_for(2048));
+    // A refinement stream keeps each vertex's data from level to level: the record's own.
+    auto level = [&](size_t target) {
+        const size_t ops = rec.operations_for(target);
+        return param.progressive ? rec.after_as_recorded(ops) : rec.after(ops);
+    };
+    const Surface expected_coarse = level(512);
+    const Surface expected_fine = level(2048);
     EXPECT_EQ(test::triangles_by_content(coarse.mesh), test::triangles_by_content(expected_coarse));
     EXPECT_EQ(test::triangles_by_content(fine.mesh), test::triangles_by_content(expected_fine));
     EXPECT_EQ(fine.refinement, param.progressive);

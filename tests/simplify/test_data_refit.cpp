@@ -59,23 +59,13 @@ double two_way_data_rms(const Surface& input, const Surface& level) {
     return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
 }
 
-// The level with the data its collapses made, as the record's stable vertices carry it.
-Surface with_collapse_data(const ProgressiveRecord& record, size_t operations) {
-    const std::vector<uint32_t> ids = record.indexed_triangles(operations);
-    Surface out = record.after(operations);
-    const Field& made = record.vertices().fields[0];
-    for (size_t c = 0; c < ids.size(); ++c)
-        out.fields[0].values[out.triangles[c]] = made.values[ids[c]];
-    return out;
-}
-
 TEST(DataRefit, LowersTheTwoWayDataError) {
     const Surface in = wavy_sphere();
     for (double keep : {0.2, 0.05}) {
         const ProgressiveRecord record = ProgressiveRecord::build(in, collapse_to(0));
         const size_t operations = record.operations_for(size_t(keep * in.triangle_count()));
         const double fitted = two_way_data_rms(in, record.after(operations));
-        const double collapsed = two_way_data_rms(in, with_collapse_data(record, operations));
+        const double collapsed = two_way_data_rms(in, record.after_as_recorded(operations));
         EXPECT_LT(fitted, 0.97 * collapsed) << "keep " << keep;
     }
 }
@@ -122,7 +112,7 @@ TEST(DataRefit, LeavesInterpolatedDataAlone) {
     o.data_placement = DataPlacement::Interpolated;
     const ProgressiveRecord record = ProgressiveRecord::build(in, o);
     const size_t operations = record.operations_for(in.triangle_count() / 10);
-    EXPECT_TRUE(same_bytes(record.after(operations), with_collapse_data(record, operations)));
+    EXPECT_TRUE(same_bytes(record.after(operations), record.after_as_recorded(operations)));
 }
 
 } // namespace

@@ -114,21 +114,18 @@ TEST_P(Progressive, EveryPrefixIsASoundSurface) {
     }
 }
 
-// indexed_triangles(k) names, through the stable ids of vertices(), the same corners as after(k):
-// triangle by triangle, the same positions and the same data. At k = 0 the ids are the input's.
-// (Edge collapse's least-error data is fitted anew for each level by after(), test_data_refit.cpp;
-// interpolated data is the record's in every level.)
+// indexed_triangles(k) names, through the stable ids of vertices(), the same corners as
+// after_as_recorded(k): triangle by triangle, the same positions and the same data (after(k)
+// differs only in fitted data, test_data_refit.cpp). At k = 0 the ids are the input's.
 TEST_P(Progressive, IndexedTrianglesUseStableVertexIds) {
     Surface in = grid_input();
-    Options o = record_options();
-    o.data_placement = DataPlacement::Interpolated;
-    ProgressiveRecord rec = ProgressiveRecord::build(in, o);
+    ProgressiveRecord rec = ProgressiveRecord::build(in, record_options());
     const Surface& all = rec.vertices();
     EXPECT_EQ(rec.indexed_triangles(0), in.triangles);
     const size_t ops = rec.operations();
     for (size_t k : {size_t(0), size_t(1), ops / 2, ops}) {
         const std::vector<uint32_t> ids = rec.indexed_triangles(k);
-        const Surface level = rec.after(k);
+        const Surface level = rec.after_as_recorded(k);
         ASSERT_EQ(ids.size(), level.triangles.size()) << k;
         for (size_t c = 0; c < ids.size(); ++c) {
             ASSERT_LT(ids[c], all.vertex_count());

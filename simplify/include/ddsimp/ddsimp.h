@@ -300,6 +300,10 @@ public:
     // The surface after the first `operations` operations (0 = the repaired input), its data
     // fitted over the level with edge collapse's least-error data (DataPlacement::LeastError).
     Surface after(size_t operations) const;
+    // The same level with each vertex's data as vertices() carries it, never fitted: what a
+    // refinement stream (vertices() and indexed_triangles) shows, level after level. Equal to
+    // after() but for fitted data.
+    Surface after_as_recorded(size_t operations) const;
     // The surface at the first operation that leaves at most `triangles` triangles (or the
     // coarsest recorded if none does).
     Surface level(size_t triangles) const;
@@ -355,6 +359,8 @@ private:
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
+    // after() and after_as_recorded().
+    Surface level_after(size_t operations, bool fit_data) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`).
     void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
