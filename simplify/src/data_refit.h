@@ -1,5 +1,5 @@
 // The data of an edge-collapse level fitted to the input by least squares, over the whole level
-// at once (docs/algorithm.md, "The data of a level").
+// at once (docs/algorithm.md, "Edge collapse": the data at the new point).
 #pragma once
 
 #include "ddsimp/ddsimp.h"

@@ -1,7 +1,6 @@
 // The data of an edge-collapse level fitted to the input over the whole level (data_refit.h):
 // it lowers the two-way data error below the collapses' own values, stays within the data's
 // range, and leaves the input's own and locked vertices' data as they were.
-#include "data_refit.h"
 #include "test_surfaces.h"
 #include "working_mesh.h"
 
@@ -81,8 +80,8 @@ TEST(DataRefit, StaysWithinTheDataRange) {
     }
 }
 
-// Every output vertex that sits where an input vertex does (never moved: the input's own, or
-// locked) has that vertex's data.
+// Every output vertex that sits where a locked input vertex does has that vertex's data; so does
+// every input vertex that is still in a level.
 TEST(DataRefit, KeepsTheInputsAndTheLockedVerticesData) {
     const Surface in = wavy_sphere();
     Options o = collapse_to(0.1);
@@ -102,6 +101,21 @@ TEST(DataRefit, KeepsTheInputsAndTheLockedVerticesData) {
         }
     }
     EXPECT_GT(locked_seen, in.vertex_count() / 8);
+
+    // Through the record's ids: every input vertex still in the level has its own data.
+    o.keep_fraction = 0;
+    o.locked.clear();
+    const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+    const size_t operations = record.operations_for(in.triangle_count() / 2); // some stay
+    const std::vector<uint32_t> ids = record.indexed_triangles(operations);
+    const Surface level = record.after(operations);
+    size_t input_corners = 0;
+    for (size_t c = 0; c < ids.size(); ++c)
+        if (ids[c] < in.vertex_count()) {
+            EXPECT_EQ(level.fields[0].values[level.triangles[c]], in.fields[0].values[ids[c]]);
+            ++input_corners;
+        }
+    EXPECT_GT(input_corners, 0u);
 }
 
 // Interpolated data is the paper's rule along the edge and is not fitted: a level's data is the
