@@ -52,7 +52,8 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
     command
         .add_option("--data", args.data,
                     "Edge collapse data at the new point: least-error (of the data error, "
-                    "clamped to the two values it replaces) or interpolated (along the edge)")
+                    "clamped to the two values it replaces, then fitted over the whole level) or "
+                    "interpolated (along the edge)")
         ->check(CLI::IsMember({"least-error", "interpolated"}))
         ->capture_default_str();
     command

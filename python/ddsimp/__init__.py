@@ -71,8 +71,8 @@ def simplify(points, triangles=None, fields=None, *, alpha=_D["alpha"], keep=_D[
     max_weight: also stop when the lightest element weighs more than this.
     strategy: "edge" (collapse) or "vertex" (removal; data stays exact).
     placement: "least-error", "midpoint" or "volume" (edge collapse's new point).
-    data_placement: "least-error" (clamped to the two values it replaces) or "interpolated"
-        (along the edge): edge collapse's data at the new point.
+    data_placement: "least-error" (clamped to the two values it replaces, then fitted over the
+        whole level) or "interpolated" (along the edge): edge collapse's data at the new point.
     terms: "quadrics" (error against the input) or "paper" (angle deficit and data gradient).
     gradient_fields: names of the fields that drive the data term (None: the continuous ones).
     feature_angle: dihedral angle in degrees above which an edge is a feature (180: none).
