@@ -185,11 +185,8 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     if (nu == 0) return;
 
     // Field values by component: input value and level value of vertex v.
-    auto field_of = [&](const Surface& s, size_t j) -> const Field& {
-        return s.fields[input.components[j].first];
-    };
     auto input_value = [&](uint32_t v, size_t j) {
-        const Field& f = field_of(in, j);
+        const Field& f = in.fields[input.components[j].first];
         return double(f.values[size_t(v) * size_t(f.components) + input.components[j].second]);
     };
     auto level_value = [&](uint32_t v, size_t j) -> float& {

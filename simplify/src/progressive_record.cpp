@@ -144,6 +144,9 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.vertices = input_vertices_;
     input.triangles = &base_triangles_;
     input.components = refit_components_;
+    // index marks the ids the level does not keep with 0xffffffff, which is kNoOwner: an input
+    // vertex no triangle uses has no owner.
+    static_assert(detail::kNoOwner == 0xffffffffu);
     input.owner.resize(input_vertices_);
     for (size_t v = 0; v < input_vertices_; ++v) input.owner[v] = index[map[v]];
     // The points the run made are fitted; the input's own vertices and everything placed on a
@@ -156,7 +159,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     }
     input.free.assign(level.vertex_count(), 0);
     for (size_t v = input_vertices_; v < map.size(); ++v)
-        if (index[v] != 0xffffffffu && !locked[v]) input.free[index[v]] = 1;
+        if (index[v] != detail::kNoOwner && !locked[v]) input.free[index[v]] = 1;
     detail::Parallel parallel(threads_);
     detail::refit_data(input, level, parallel);
 }
