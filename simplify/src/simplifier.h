@@ -270,20 +270,30 @@ private:
     // shortest_[v] and, with the error quadrics, weight_[v].
     void key_removal(uint32_t v);
     bool plan_removal(uint32_t v, RemovalPlan& plan) const;
-    bool triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
+    // Terms::ErrorQuadrics: how far the new edge between ring[p] and ring[q] leaves the star's
+    // surface and data at its midpoint (squared, weighted and normalised as the quadrics are).
+    // xyh: the ring in the plane of the star's mean normal, v at the origin, with each point's
+    // height above that plane.
+    double midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t p,
+                           uint8_t q) const;
+    // Terms::ErrorQuadrics: the squared change a re-triangulation makes to the star's surface
+    // and data, integrated over the new triangles (zero on the ring's own edges).
+    double triangulation_change(const RemovalPlan& plan, const double (*xyh)[3],
+                                const uint8_t (*triangles)[3], size_t count) const;
+    bool triangulate(const RemovalPlan& plan, const double (*xyh)[3], const uint8_t* polygon,
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
-    bool planar_triangulation(RemovalPlan& plan, const double (*xy)[2], const uint64_t* adjacent,
+    bool planar_triangulation(RemovalPlan& plan, const double (*xyh)[3], const uint64_t* adjacent,
                               const detail::Vec3& axis) const;
     bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
-                           const double (*xy)[2]) const;
+                           const double (*xyh)[3]) const;
     // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
-    // plan.ring) that lies on v's projection axis (xy: the ring projected, v at the origin), with
+    // plan.ring) that lies on v's projection axis (xyh as for midpoint_change), with
     // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside
     // the surface, plus the retraction from v to that point (see retraction_scale). Where that
     // point is into `cover`. count >= 1: a boundary ear, which makes no triangle, is planned
     // without one (plan_removal).
     double triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3], size_t count,
-                               const double (*xy)[2], Cover& cover) const;
+                               const double (*xyh)[3], Cover& cover) const;
     // Applies a planned removal as the record's operation `index`, its writes from `write_at`.
     void apply_removal(const Removal& plan, size_t index, size_t write_at);
     // Taken: removals_ holds what applying it needs in `slot`.

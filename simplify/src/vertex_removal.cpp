@@ -1,6 +1,7 @@
 // Vertex removal: the vertex goes, the polygon of its star is projected to the plane of the
-// star's mean normal and re-triangulated by clipping its best-shaped ears. The remaining
-// vertices keep their data exactly.
+// star's mean normal and re-triangulated by clipping ears: with the error quadrics first those
+// whose new edges leave the star's surface and data least, with the paper's terms the
+// best-shaped. The remaining vertices keep their data exactly.
 #include "simplifier.h"
 
 #include <algorithm>
@@ -74,13 +75,14 @@ double Simplifier::removal_error(uint32_t v, const uint32_t* ring, size_t count)
 }
 
 // Ear clipping of polygon[0..n) (indices into the ring) in the plane; appends to out.
-bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], const uint8_t* polygon,
-                             size_t n, const uint64_t* adjacent, RemovalPlan& out) const {
+bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xyh)[3],
+                             const uint8_t* polygon, size_t n, const uint64_t* adjacent,
+                             RemovalPlan& out) const {
     uint8_t left[kMaxValence];
     std::copy(polygon, polygon + n, left);
     double extent = 0;
     for (size_t i = 0; i < plan.ring_size; ++i)
-        extent = std::max({extent, std::abs(xy[i][0]), std::abs(xy[i][1])});
+        extent = std::max({extent, std::abs(xyh[i][0]), std::abs(xyh[i][1])});
     // Twice the area below which an ear counts as flat, relative to the ring's size: points
     // collinear on paper, such as three grid points on a diagonal, are off their line by float
     // rounding (about 1e-8 of the size there).
@@ -89,17 +91,26 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
     // two neighbours stay: clipping only removes points that could lie inside it. A bad one is
     // tested again (a clipped point may have been what spoilt it).
     uint64_t good = 0;
-    double good_shape[kMaxValence];
+    // With the error quadrics, the ear whose new edge changes the star least goes first (its
+    // change at the edge's midpoint times the edge's squared length, the size of the region it
+    // spans), the best-shaped among equals.
+    double good_shape[kMaxValence], good_change[kMaxValence];
+    auto better = [&](double change, double s, double best_change, double best_shape) {
+        if (!quadric_terms_) return s > best_shape;
+        const double tie = 1e-12 * (change + best_change);
+        return change < best_change - tie || (change <= best_change + tie && s > best_shape);
+    };
     while (n >= 3) {
         size_t best = n;
-        double best_shape = -1;
+        double best_shape = -1, best_change = INFINITY;
         for (size_t i = 0; i < n; ++i) {
             const uint8_t p = left[(i + n - 1) % n], c = left[i], q = left[(i + 1) % n];
             if (good >> c & 1) {
-                if (good_shape[c] > best_shape) best_shape = good_shape[c], best = i;
+                if (better(good_change[c], good_shape[c], best_change, best_shape))
+                    best_shape = good_shape[c], best_change = good_change[c], best = i;
                 continue;
             }
-            if (orient(xy[p], xy[c], xy[q]) <= eps) continue; // reflex or flat
+            if (orient(xyh[p], xyh[c], xyh[q]) <= eps) continue; // reflex or flat
             // The new edge p-q must not exist already (it would be non-manifold), unless this is
             // the last triangle, whose edges are all there by construction.
             if (n > 3 && (adjacent[p] >> q & 1)) continue;
@@ -107,13 +118,20 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
             for (size_t j = 0; j < n && empty; ++j) {
                 const uint8_t o = left[j];
                 if (o == p || o == c || o == q) continue;
-                empty = orient(xy[p], xy[c], xy[o]) < -eps || orient(xy[c], xy[q], xy[o]) < -eps ||
-                        orient(xy[q], xy[p], xy[o]) < -eps;
+                empty = orient(xyh[p], xyh[c], xyh[o]) < -eps ||
+                        orient(xyh[c], xyh[q], xyh[o]) < -eps ||
+                        orient(xyh[q], xyh[p], xyh[o]) < -eps;
             }
             if (!empty) continue;
-            const double s = shape(xy[p], xy[c], xy[q]);
-            good |= uint64_t(1) << c, good_shape[c] = s;
-            if (s > best_shape) best_shape = s, best = i;
+            const double s = shape(xyh[p], xyh[c], xyh[q]);
+            double change = 0;
+            if (quadric_terms_ && n > 3) {
+                const double dx = xyh[p][0] - xyh[q][0], dy = xyh[p][1] - xyh[q][1];
+                change = midpoint_change(plan, xyh, p, q) * (dx * dx + dy * dy);
+            }
+            good |= uint64_t(1) << c, good_shape[c] = s, good_change[c] = change;
+            if (better(change, s, best_change, best_shape))
+                best_shape = s, best_change = change, best = i;
         }
         if (best == n) return false;
         if (out.new_count == kMaxValence) return false;
@@ -124,6 +142,62 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xy)[2], con
         --n;
     }
     return true;
+}
+
+double Simplifier::midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t p,
+                                   uint8_t q) const {
+    const size_t n = plan.ring_size;
+    const size_t wedges = plan.boundary ? n - 1 : n;
+    const double mid[2] = {(xyh[p][0] + xyh[q][0]) / 2, (xyh[p][1] + xyh[q][1]) / 2};
+    const double origin[2] = {0, 0};
+    // The star triangle (v, ring[i], ring[i + 1]) under the midpoint: for an edge inside the
+    // polygon, one of those from p on to q.
+    for (size_t k = 0; k < wedges; ++k) {
+        const size_t i = (p + k) % n, i1 = (i + 1) % n;
+        if (plan.boundary && i == n - 1) continue;
+        const double d = orient(origin, xyh[i], xyh[i1]);
+        if (!(d > 0)) continue;
+        const double wi = orient(origin, mid, xyh[i1]) / d, wi1 = orient(origin, xyh[i], mid) / d;
+        const double wv = 1 - wi - wi1;
+        constexpr double kInside = -1e-9; // on a spoke, either side will do
+        if (wi < kInside || wi1 < kInside || wv < kInside) continue;
+        const double height =
+            (xyh[p][2] + xyh[q][2]) / 2 - (wi * xyh[i][2] + wi1 * xyh[i1][2]); // v's is 0
+        double change = quadrics_.geometry_weight * height * height * quadrics_.inv_diagonal *
+                        quadrics_.inv_diagonal;
+        const float *fp = mesh_.data_of(plan.ring[p]), *fq = mesh_.data_of(plan.ring[q]);
+        const float *fv = mesh_.data_of(plan.vertex), *fi = mesh_.data_of(plan.ring[i]),
+                    *fi1 = mesh_.data_of(plan.ring[i1]);
+        for (size_t j = 0; j < quadrics_.components; ++j) {
+            const uint32_t o = quadrics_.offset[j];
+            const double before = wv * fv[o] + wi * fi[o] + wi1 * fi1[o];
+            const double s = ((double(fp[o]) + fq[o]) / 2 - before) * quadrics_.inv_range[j];
+            change += quadrics_.data_weight * s * s;
+        }
+        return change;
+    }
+    return 0; // outside the star: a boundary's new edge, priced by its planes
+}
+
+double Simplifier::triangulation_change(const RemovalPlan& plan, const double (*xyh)[3],
+                                        const uint8_t (*triangles)[3], size_t count) const {
+    // Over a new triangle the change is near linear and 0 on the ring's own edges: the
+    // quadrature at the sides' midpoints (area / 3 each, exact for the square of a linear
+    // change) integrates its square.
+    const size_t n = plan.ring_size;
+    const double unit = quadrics_.inv_diagonal * quadrics_.inv_diagonal;
+    double sum = 0;
+    for (size_t t = 0; t < count; ++t) {
+        const uint8_t* c = triangles[t];
+        const double area = std::abs(orient(xyh[c[0]], xyh[c[1]], xyh[c[2]])) / 2 * unit;
+        for (int k = 0; k < 3; ++k) {
+            const uint8_t a = c[k], b = c[(k + 1) % 3];
+            const size_t gap = (b + n - a) % n;
+            if (gap == 1 || gap == n - 1) continue; // the ring's own edge
+            sum += area / 3 * midpoint_change(plan, xyh, std::min(a, b), std::max(a, b));
+        }
+    }
+    return sum;
 }
 
 bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
@@ -214,7 +288,7 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         if (far != kNone && mesh_.origin[prev(far)] == plan.ring[2]) return false;
     }
 
-    // Project the ring to the plane of the star's mean normal.
+    // Project the ring to the plane of the star's mean normal; keep each point's height above it.
     const double nn = norm(normal);
     if (!(nn > 0)) return false;
     const Vec3 axis = scale(normal, 1 / nn);
@@ -222,40 +296,42 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     e1 = sub(e1, scale(axis, dot(e1, axis)));
     e1 = scale(e1, 1 / norm(e1));
     const Vec3 e2 = cross(axis, e1);
-    double xy[kMaxValence][2];
+    double xyh[kMaxValence][3];
     const Vec3 centre = mesh_.point(v);
     for (size_t i = 0; i < n; ++i) {
         const Vec3 d = sub(mesh_.point(plan.ring[i]), centre);
-        xy[i][0] = dot(d, e1), xy[i][1] = dot(d, e2);
+        xyh[i][0] = dot(d, e1), xyh[i][1] = dot(d, e2), xyh[i][2] = dot(d, axis);
     }
 
-    if (planar_triangulation(plan, xy, adjacent, axis)) {
+    if (planar_triangulation(plan, xyh, adjacent, axis)) {
         if (!quadric_terms_) return true;
-        plan.error = triangulation_error(plan, plan.triangles, plan.new_count, xy, plan.cover);
+        plan.error = triangulation_error(plan, plan.triangles, plan.new_count, xyh, plan.cover) +
+                     triangulation_change(plan, xyh, plan.triangles, plan.new_count);
         if (plan.error <= quadrics_.noise(v)) return true;
         // The flattest triangulation may cut across a crease that a fan from one of its ends
         // follows: the one with less error wins.
         RemovalPlan fan = plan;
         fan.new_count = 0;
-        if (fan_triangulation(fan, adjacent, xy) && fan.error + quadrics_.noise(v) < plan.error)
+        if (fan_triangulation(fan, adjacent, xyh) && fan.error + quadrics_.noise(v) < plan.error)
             plan = fan;
         return true;
     }
     // A star too curved to project flat may still be closed by a fan from one of its vertices
     // (the half-edge collapse of v into it), checked in 3D instead.
     plan.new_count = 0;
-    return fan_triangulation(plan, adjacent, xy);
+    return fan_triangulation(plan, adjacent, xyh);
 }
 
 double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*triangles)[3],
-                                       size_t count, const double (*xy)[2], Cover& cover) const {
+                                       size_t count, const double (*xyh)[3], Cover& cover) const {
     // Barycentric coordinates of the origin (v) in each new triangle: the one that holds it, or
     // whose least coordinate is largest, clamped into it.
     const double origin[2] = {0, 0};
     double best[3] = {1, 0, 0}, best_least = -INFINITY;
     size_t at = 0;
     for (size_t t = 0; t < count; ++t) {
-        const double *a = xy[triangles[t][0]], *b = xy[triangles[t][1]], *c = xy[triangles[t][2]];
+        const double *a = xyh[triangles[t][0]], *b = xyh[triangles[t][1]],
+                     *c = xyh[triangles[t][2]];
         const double d = orient(a, b, c);
         if (d == 0) continue;
         const double w[3] = {orient(origin, b, c) / d, orient(a, origin, c) / d,
@@ -283,7 +359,7 @@ double Simplifier::triangulation_error(const RemovalPlan& plan, const uint8_t (*
     return retraction > quadrics_.noise(plan.vertex) ? error + retraction : error;
 }
 
-bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
+bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xyh)[3],
                                       const uint64_t* adjacent, const Vec3& axis) const {
     const size_t n = plan.ring_size;
     uint8_t polygon[kMaxValence];
@@ -293,14 +369,14 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
         if (adjacent[fa] >> fb & 1) return false;
         size_t m = 0;
         for (int i = fa; i <= fb; ++i) polygon[m++] = uint8_t(i);
-        if (!triangulate(plan, xy, polygon, m, adjacent, plan)) return false;
+        if (!triangulate(plan, xyh, polygon, m, adjacent, plan)) return false;
         m = 0;
         for (int i = fb; i != fa + int(n); ++i) polygon[m++] = uint8_t(i % int(n));
         polygon[m++] = uint8_t(fa);
-        if (!triangulate(plan, xy, polygon, m, adjacent, plan)) return false;
+        if (!triangulate(plan, xyh, polygon, m, adjacent, plan)) return false;
     } else {
         for (size_t i = 0; i < n; ++i) polygon[i] = uint8_t(i);
-        if (!triangulate(plan, xy, polygon, n, adjacent, plan)) return false;
+        if (!triangulate(plan, xyh, polygon, n, adjacent, plan)) return false;
     }
 
     // The new triangles must face the same way as the star in 3D too, and turn no more than
@@ -330,7 +406,7 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xy)[2],
 }
 
 bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
-                                   const double (*xy)[2]) const {
+                                   const double (*xyh)[3]) const {
     const size_t n = plan.ring_size;
     const Vec3 centre = mesh_.point(plan.vertex);
     const double turn_cos = mesh_.limits.normal_turn_cos;
@@ -348,7 +424,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             triangles[count][0] = uint8_t(j), triangles[count][1] = uint8_t(i);
             triangles[count++][2] = uint8_t(i1);
         }
-        return triangulation_error(plan, triangles, count, xy, cover);
+        return triangulation_error(plan, triangles, count, xyh, cover) +
+               triangulation_change(plan, xyh, triangles, count);
     };
     // What does not depend on the fan's apex, once: the ring's points and reference normals,
     // and per star triangle (v, i, i + 1) its normal, that normal's length and the squared
