@@ -14,6 +14,7 @@
 #include "weights.h"
 #include "working_mesh.h"
 
+#include <algorithm>
 #include <atomic>
 
 namespace ddsimp {
@@ -128,6 +129,11 @@ private:
         detail::Vec3 star_normal[kMaxValence]; // of star triangle i (v, ring[i], ring[i+1])
         bool star_faces_along;                 // every star triangle faces its corners' way
         double error = 0; // Terms::ErrorQuadrics: v's error where the new triangles pass it
+        // midpoint_change of the new edges tried so far, between ring points below
+        // kChangeMemo: the planar triangulation and each fan try many of the same edges.
+        static constexpr size_t kChangeMemo = 16;
+        mutable double edge_change[kChangeMemo][kChangeMemo];
+        mutable uint16_t edge_change_known[kChangeMemo];
     };
 
     // The share of a pass's candidates, lightest first, that the pass selects from (pass_share):
@@ -275,7 +281,15 @@ private:
     // xyh: the ring in the plane of the star's mean normal, v at the origin, with each point's
     // height above that plane.
     double midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t p,
-                           uint8_t q) const;
+                           uint8_t q) const {
+        const uint8_t lo = std::min(p, q), hi = std::max(p, q);
+        if (hi < RemovalPlan::kChangeMemo && (plan.edge_change_known[lo] >> hi & 1))
+            return plan.edge_change[lo][hi];
+        return new_midpoint_change(plan, xyh, lo, hi);
+    }
+    // midpoint_change of an edge not yet in the plan's memo (lo < hi), kept there.
+    double new_midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t lo,
+                               uint8_t hi) const;
     // Terms::ErrorQuadrics: the squared change a re-triangulation makes to the star's surface
     // and data, integrated over the new triangles (zero on the ring's own edges).
     double triangulation_change(const RemovalPlan& plan, const double (*xyh)[3],
@@ -284,8 +298,11 @@ private:
                      size_t n, const uint64_t* adjacent, RemovalPlan& out) const;
     bool planar_triangulation(RemovalPlan& plan, const double (*xyh)[3], const uint64_t* adjacent,
                               const detail::Vec3& axis) const;
-    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
-                           const double (*xyh)[3]) const;
+    // The fan from one ring vertex (the half-edge collapse into it) of least error, the
+    // best-shaped among equals; with the error quadrics, a fan must be lighter than `beat` (an
+    // alternative's error) to matter, so heavier ones are not priced in full.
+    bool fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent, const double (*xyh)[3],
+                           double beat = INFINITY) const;
     // Terms::ErrorQuadrics: the error of v's quadric at the point of `triangles` (indices into
     // plan.ring) that lies on v's projection axis (xyh as for midpoint_change), with
     // the data interpolated there; the nearest triangle's nearest point if none holds it. Inside

@@ -144,28 +144,32 @@ bool Simplifier::triangulate(const RemovalPlan& plan, const double (*xyh)[3],
     return true;
 }
 
-double Simplifier::midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t p,
-                                   uint8_t q) const {
+double Simplifier::new_midpoint_change(const RemovalPlan& plan, const double (*xyh)[3], uint8_t lo,
+                                       uint8_t hi) const {
+    double change = 0; // outside the star: a boundary's new edge, priced by its planes
     const size_t n = plan.ring_size;
-    const size_t wedges = plan.boundary ? n - 1 : n;
-    const double mid[2] = {(xyh[p][0] + xyh[q][0]) / 2, (xyh[p][1] + xyh[q][1]) / 2};
-    const double origin[2] = {0, 0};
+    const double mid[2] = {(xyh[lo][0] + xyh[hi][0]) / 2, (xyh[lo][1] + xyh[hi][1]) / 2};
     // The star triangle (v, ring[i], ring[i + 1]) under the midpoint: for an edge inside the
-    // polygon, one of those from p on to q.
-    for (size_t k = 0; k < wedges; ++k) {
-        const size_t i = (p + k) % n, i1 = (i + 1) % n;
-        if (plan.boundary && i == n - 1) continue;
-        const double d = orient(origin, xyh[i], xyh[i1]);
-        if (!(d > 0)) continue;
-        const double wi = orient(origin, mid, xyh[i1]) / d, wi1 = orient(origin, xyh[i], mid) / d;
-        const double wv = 1 - wi - wi1;
-        constexpr double kInside = -1e-9; // on a spoke, either side will do
-        if (wi < kInside || wi1 < kInside || wv < kInside) continue;
+    // polygon, one of those between its ends. Searched from the lower end, so that the edge's
+    // change does not depend on which way round it is asked for (on a spoke both sides agree,
+    // to rounding). side: the midpoint's side of the spoke to ring[i] (> 0: ahead of it).
+    auto side = [&](size_t i) { return xyh[i][0] * mid[1] - xyh[i][1] * mid[0]; };
+    double side_i = side(lo);
+    for (size_t k = 0; k < n; ++k) {
+        const size_t i = (lo + k) % n, i1 = (i + 1) % n;
+        const double side_i1 = side(i1), side_at = side_i;
+        side_i = side_i1;
+        if (plan.boundary && i == n - 1) continue; // no star triangle between the ends
+        const double d = xyh[i][0] * xyh[i1][1] - xyh[i][1] * xyh[i1][0]; // twice its area
+        constexpr double kInside = 1e-9; // on a spoke, either side will do
+        if (!(d > 0) || side_at < -kInside * d || side_i1 > kInside * d) continue;
+        const double wi = -side_i1 / d, wi1 = side_at / d, wv = 1 - wi - wi1;
+        if (wv < -kInside) continue;
         const double height =
-            (xyh[p][2] + xyh[q][2]) / 2 - (wi * xyh[i][2] + wi1 * xyh[i1][2]); // v's is 0
-        double change = quadrics_.geometry_weight * height * height * quadrics_.inv_diagonal *
-                        quadrics_.inv_diagonal;
-        const float *fp = mesh_.data_of(plan.ring[p]), *fq = mesh_.data_of(plan.ring[q]);
+            (xyh[lo][2] + xyh[hi][2]) / 2 - (wi * xyh[i][2] + wi1 * xyh[i1][2]); // v's is 0
+        change = quadrics_.geometry_weight * height * height * quadrics_.inv_diagonal *
+                 quadrics_.inv_diagonal;
+        const float *fp = mesh_.data_of(plan.ring[lo]), *fq = mesh_.data_of(plan.ring[hi]);
         const float *fv = mesh_.data_of(plan.vertex), *fi = mesh_.data_of(plan.ring[i]),
                     *fi1 = mesh_.data_of(plan.ring[i1]);
         for (size_t j = 0; j < quadrics_.components; ++j) {
@@ -174,9 +178,11 @@ double Simplifier::midpoint_change(const RemovalPlan& plan, const double (*xyh)[
             const double s = ((double(fp[o]) + fq[o]) / 2 - before) * quadrics_.inv_range[j];
             change += quadrics_.data_weight * s * s;
         }
-        return change;
+        break;
     }
-    return 0; // outside the star: a boundary's new edge, priced by its planes
+    if (hi < RemovalPlan::kChangeMemo)
+        plan.edge_change[lo][hi] = change, plan.edge_change_known[lo] |= uint16_t(1u << hi);
+    return change;
 }
 
 double Simplifier::triangulation_change(const RemovalPlan& plan, const double (*xyh)[3],
@@ -194,7 +200,7 @@ double Simplifier::triangulation_change(const RemovalPlan& plan, const double (*
             const uint8_t a = c[k], b = c[(k + 1) % 3];
             const size_t gap = (b + n - a) % n;
             if (gap == 1 || gap == n - 1) continue; // the ring's own edge
-            sum += area / 3 * midpoint_change(plan, xyh, std::min(a, b), std::max(a, b));
+            sum += area / 3 * midpoint_change(plan, xyh, a, b);
         }
     }
     return sum;
@@ -237,6 +243,7 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         normal = add(normal, plan.star_normal[i]);
     }
     plan.ring_size = n;
+    std::fill_n(plan.edge_change_known, RemovalPlan::kChangeMemo, uint16_t(0));
     plan.star_faces_along = true;
     for (size_t i = 0; i < fan; ++i)
         plan.star_faces_along =
@@ -312,7 +319,8 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
         // follows: the one with less error wins.
         RemovalPlan fan = plan;
         fan.new_count = 0;
-        if (fan_triangulation(fan, adjacent, xyh) && fan.error + quadrics_.noise(v) < plan.error)
+        if (fan_triangulation(fan, adjacent, xyh, plan.error) &&
+            fan.error + quadrics_.noise(v) < plan.error)
             plan = fan;
         return true;
     }
@@ -406,7 +414,7 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xyh)[3],
 }
 
 bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
-                                   const double (*xyh)[3]) const {
+                                   const double (*xyh)[3], double beat) const {
     const size_t n = plan.ring_size;
     const Vec3 centre = mesh_.point(plan.vertex);
     const double turn_cos = mesh_.limits.normal_turn_cos;
@@ -424,8 +432,11 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             triangles[count][0] = uint8_t(j), triangles[count][1] = uint8_t(i);
             triangles[count++][2] = uint8_t(i1);
         }
-        return triangulation_error(plan, triangles, count, xyh, cover) +
-               triangulation_change(plan, xyh, triangles, count);
+        const double error = triangulation_error(plan, triangles, count, xyh, cover);
+        // The change only adds: a fan already heavier than the best so far, or than `beat`,
+        // cannot win, and its change is left out.
+        if (error > std::min(best_error + noise, beat)) return error;
+        return error + triangulation_change(plan, xyh, triangles, count);
     };
     // What does not depend on the fan's apex, once: the ring's points and reference normals,
     // and per star triangle (v, i, i + 1) its normal, that normal's length and the squared

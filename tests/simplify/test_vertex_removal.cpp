@@ -197,7 +197,7 @@ TEST(VertexRemoval, StraightRidgeCostsNothing) {
 // counted.)
 TEST(VertexRemoval, NewEdgesFollowTheData) {
     const Surface in = wavy_sphere();
-    for (const auto [keep, most] : {std::pair{0.2, 0.0128}, std::pair{0.05, 0.046}}) {
+    for (const auto& [keep, most] : {std::pair{0.2, 0.0128}, std::pair{0.05, 0.046}}) {
         Options o = removal();
         o.alpha = 0;
         o.keep_fraction = keep;
