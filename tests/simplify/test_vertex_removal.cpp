@@ -194,10 +194,11 @@ TEST(VertexRemoval, StraightRidgeCostsNothing) {
 // only by v's own error: the new edges follow the data. On a sphere with a wavy field at
 // alpha = 0 the two-way data RMS (brute force) is 0.0117 at 20% and 0.0428 at 5% of the
 // triangles. (0.0140 and 0.0492 when the best-shaped ears were clipped and only v's error
-// counted.)
+// counted; 0.0128 at 20% when the ears follow the data but the plan's error leaves the change
+// out.)
 TEST(VertexRemoval, NewEdgesFollowTheData) {
     const Surface in = wavy_sphere();
-    for (const auto& [keep, most] : {std::pair{0.2, 0.0128}, std::pair{0.05, 0.046}}) {
+    for (const auto& [keep, most] : {std::pair{0.2, 0.0125}, std::pair{0.05, 0.046}}) {
         Options o = removal();
         o.alpha = 0;
         o.keep_fraction = keep;
