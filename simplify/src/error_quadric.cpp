@@ -52,7 +52,6 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     size = kSharedTerms + 4 * components;
     values.assign(capacity * size, 0.0);
     area = 0;
-    geometry_weight = geometry, data_weight = data;
     if (inv_diagonal == 0) return; // a single point: nothing can move
 
     auto position = [&](uint32_t v) { return scale(sub(mesh.point(v), centre), inv_diagonal); };

@@ -62,8 +62,6 @@ struct ErrorQuadrics {
     Array<double> values;
     // The input surface's area (normalised units: diagonals squared).
     double area = 0;
-    // The weights of the geometric and the data error (setup's `geometry` and `data`).
-    double geometry_weight = 0, data_weight = 0;
     // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
     Vec3 centre{0, 0, 0};
     double inv_diagonal = 0;

@@ -167,8 +167,8 @@ double Simplifier::new_midpoint_change(const RemovalPlan& plan, const double (*x
         if (wv < -kInside) continue;
         const double height =
             (xyh[lo][2] + xyh[hi][2]) / 2 - (wi * xyh[i][2] + wi1 * xyh[i1][2]); // v's is 0
-        change = quadrics_.geometry_weight * height * height * quadrics_.inv_diagonal *
-                 quadrics_.inv_diagonal;
+        change =
+            geometry_weight() * height * height * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
         const float *fp = mesh_.data_of(plan.ring[lo]), *fq = mesh_.data_of(plan.ring[hi]);
         const float *fv = mesh_.data_of(plan.vertex), *fi = mesh_.data_of(plan.ring[i]),
                     *fi1 = mesh_.data_of(plan.ring[i1]);
@@ -176,7 +176,7 @@ double Simplifier::new_midpoint_change(const RemovalPlan& plan, const double (*x
             const uint32_t o = quadrics_.offset[j];
             const double before = wv * fv[o] + wi * fi[o] + wi1 * fi1[o];
             const double s = ((double(fp[o]) + fq[o]) / 2 - before) * quadrics_.inv_range[j];
-            change += quadrics_.data_weight * s * s;
+            change += (1 - options_.alpha) * s * s;
         }
         break;
     }
