@@ -195,12 +195,19 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     };
 
     // The normal equations, row by row: for free vertex k, the samples on its star weigh in with
-    // k's weight at them; its own backward sample adds 1 on the diagonal.
+    // k's weight at them; its own backward sample adds 1 on the diagonal. The rows are made on the
+    // threads in blocks of rows, whose entries are then joined in row order.
+    struct RowBlock {
+        std::vector<uint32_t> column;
+        std::vector<double> value;
+        std::vector<uint32_t> neighbours; // a row's scratch
+        std::vector<double> weight_sum;
+    };
     std::vector<uint32_t> row_begin(nu + 1, 0), column;
     std::vector<double> value, rhs(nu * nc, 0), low(nu * nc), high(nu * nc);
-    std::vector<uint32_t> neighbours;
-    std::vector<double> weight_sum;
-    for (size_t u = 0; u < nu; ++u) {
+    auto make_row = [&](size_t u, RowBlock& out) {
+        std::vector<uint32_t>& neighbours = out.neighbours;
+        std::vector<double>& weight_sum = out.weight_sum;
         const uint32_t k = vertex_of[u];
         neighbours.clear();
         for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s)
@@ -261,10 +268,28 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
                 for (size_t j = 0; j < nc; ++j) b[j] -= weight_sum[m] * double(level_value(v, j));
                 continue;
             }
-            column.push_back(unknown[v]);
-            value.push_back(weight_sum[m]);
+            out.column.push_back(unknown[v]);
+            out.value.push_back(weight_sum[m]);
         }
-        row_begin[u + 1] = uint32_t(column.size());
+    };
+    constexpr size_t kRowsPerBlock = 1024;
+    std::vector<RowBlock> blocks((nu + kRowsPerBlock - 1) / kRowsPerBlock);
+    parallel.for_each(
+        blocks.size(),
+        [&](size_t block) {
+            const size_t last = std::min(nu, (block + 1) * kRowsPerBlock);
+            for (size_t u = block * kRowsPerBlock; u < last; ++u) {
+                const size_t entries = blocks[block].column.size();
+                make_row(u, blocks[block]);
+                row_begin[u + 1] = uint32_t(blocks[block].column.size() - entries);
+            }
+        },
+        1);
+    prefix_sum(row_begin);
+    column.reserve(row_begin[nu]), value.reserve(row_begin[nu]);
+    for (const RowBlock& block : blocks) {
+        column.insert(column.end(), block.column.begin(), block.column.end());
+        value.insert(value.end(), block.value.begin(), block.value.end());
     }
 
     std::vector<double> b(nu), x(nu);
