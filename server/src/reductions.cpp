@@ -47,18 +47,19 @@ std::shared_ptr<const ComputedRecord> Reductions::cached_record(const std::strin
     return nullptr;
 }
 
-std::shared_ptr<const ComputedRecord> Reductions::record(const ReductionParams& params,
-                                                         const std::string& key, size_t depth,
-                                                         const std::atomic<bool>& cancelled,
-                                                         bool* computed,
-                                                         const std::atomic<bool>* yield) {
+std::shared_ptr<const ComputedRecord>
+Reductions::record(const ReductionParams& params, const std::string& key, size_t depth,
+                   const std::atomic<bool>& cancelled, bool* computed,
+                   const std::atomic<bool>* yield, std::shared_ptr<const Surface>* held) {
     if (computed) *computed = false;
     if (auto found = cached_record(key, depth)) return found;
     auto out = cache_.get<ComputedRecord>(
         record_key(key, depth),
         [&] {
-            std::shared_ptr<const Surface> surface = store_.load(params.surface);
+            std::shared_ptr<const Surface> surface =
+                held && *held ? *held : store_.load(params.surface);
             if (!surface) throw std::invalid_argument("no surface " + params.surface);
+            if (held) *held = surface;
             for (const std::string& f : params.options.gradient_fields)
                 if (!surface->find_field(f))
                     throw std::invalid_argument("the surface has no field \"" + f + "\"");
@@ -138,14 +139,13 @@ std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& comp
         });
 }
 
-std::shared_ptr<const ComputedRecord> record_for(Reductions& reductions,
-                                                 const ReductionParams& params,
-                                                 const std::string& key, size_t depth,
-                                                 const std::atomic<bool>& cancelled, bool* computed,
-                                                 const std::atomic<bool>* yield) {
+std::shared_ptr<const ComputedRecord>
+record_for(Reductions& reductions, const ReductionParams& params, const std::string& key,
+           size_t depth, const std::atomic<bool>& cancelled, bool* computed,
+           const std::atomic<bool>* yield, std::shared_ptr<const Surface>* held) {
     for (;;) {
         try {
-            return reductions.record(params, key, depth, cancelled, computed, yield);
+            return reductions.record(params, key, depth, cancelled, computed, yield, held);
         } catch (const Cancelled&) {
             if (cancelled.load() || (yield && yield->load())) throw;
         }

@@ -62,11 +62,15 @@ public:
     // Another caller's run of the same key and depth is waited for. Throws
     // std::invalid_argument for an unknown surface or field, InputError from the library,
     // Cancelled when `cancelled` (or, for a run this call waited for, its own flag) stopped it,
-    // or `yield` (its worker is wanted for another client's job; counted apart).
+    // or `yield` (its worker is wanted for another client's job; counted apart). With `held`, a
+    // run takes the surface from there if an earlier run of the same job loaded it, and leaves
+    // the surface it loads there: a job that yielded finishes with its surface even if the
+    // surface was deleted meanwhile.
     std::shared_ptr<const ComputedRecord> record(const ReductionParams& params,
                                                  const std::string& key, size_t depth,
                                                  const std::atomic<bool>& cancelled, bool* computed,
-                                                 const std::atomic<bool>* yield = nullptr);
+                                                 const std::atomic<bool>* yield = nullptr,
+                                                 std::shared_ptr<const Surface>* held = nullptr);
     // A cached record of `key` that reaches `depth` triangles, or null (no computation).
     std::shared_ptr<const ComputedRecord> cached_record(const std::string& key, size_t depth);
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,
@@ -94,6 +98,7 @@ std::shared_ptr<const ComputedRecord> record_for(Reductions& reductions,
                                                  const ReductionParams& params,
                                                  const std::string& key, size_t depth,
                                                  const std::atomic<bool>& cancelled, bool* computed,
-                                                 const std::atomic<bool>* yield = nullptr);
+                                                 const std::atomic<bool>* yield = nullptr,
+                                                 std::shared_ptr<const Surface>* held = nullptr);
 
 } // namespace ddsimp::server

@@ -74,6 +74,9 @@ struct Service::RequestJob {
     Clock::time_point start;
     bool exact_sent = false; // network thread: a level went out, so a late preview is dropped
     size_t sent_early = 0;   // pool: finest levels sent before a yield (never sent twice)
+    // Pool: the surface once a run of this job loaded it, for its runs after a yield (a delete
+    // meanwhile does not take it away).
+    std::shared_ptr<const Surface> surface;
     size_t accounted_bytes = 0;
 
     // What the job holds, for the accounting in /metrics.
@@ -228,7 +231,7 @@ bool Service::run_request(const std::shared_ptr<RequestJob>& job, const std::ato
             // The finest level leaves once a run has passed it, before the run to the coarsest
             // (a progressive request keeps its order: a whole coarsest level, then refinements).
             auto first = record_for(reductions_, job->params, job->key, job->targets[todo.front()],
-                                    *job->cancelled, &computed, &yield);
+                                    *job->cancelled, &computed, &yield, &job->surface);
             prepare_levels(*job, *first, {todo.front()}, computed, emit);
             deliver(job, vector_of(std::move(*held)), {}, false);
             held.reset();
@@ -238,7 +241,8 @@ bool Service::run_request(const std::shared_ptr<RequestJob>& job, const std::ato
         }
         if (!rec)
             rec = record_for(reductions_, job->params, job->key, coarsest, *job->cancelled,
-                             &computed, &yield);
+                             &computed, &yield, &job->surface);
+        job->surface.reset();                   // the levels need the record only
         std::reverse(todo.begin(), todo.end()); // the rest coarsest first: all are ready
         prepare_levels(*job, *rec, todo, computed, emit);
         if (held) levels = vector_of(std::move(*held));

@@ -1,7 +1,7 @@
 // Deleting stored surfaces against a real ddsimp-server: only a token that uploaded a surface
 // deletes it; the quota, the data directory, the cached results and /metrics follow; a job that
-// holds the surface finishes with it. And a re-upload of stored bytes at quota is answered with the
-// stored surface, charged to nobody again.
+// holds the surface finishes with it, even after giving its worker up. And a re-upload of stored
+// bytes at quota is answered with the stored surface, charged to nobody again.
 #include "hostile_support.h"
 
 namespace ddsimp::test {
@@ -175,6 +175,32 @@ TEST(SurfaceDeletion, ARunningJobKeepsItsSurface) {
                            offline_level(big, 0.3f, 0.05f)));
     owner.send(level_request(id, {0.5f}, 3));
     EXPECT_EQ(next_error(owner).code(), v1::Error::NOT_FOUND);
+}
+
+// A job that gave its worker to another client's job runs again with the surface it had loaded,
+// though the surface was deleted in between: the delete itself takes the worker of the newer of
+// the owner's two running jobs.
+TEST(SurfaceDeletion, AJobThatYieldedKeepsItsSurface) {
+    ServerProcess server(temp_dir("delete-yielded"), {"--threads", "2", "--sample", ""});
+    const Surface big = with_test_fields(icosphere(7)); // 327,680 triangles: long enough a run
+    RawClient owner(server.port), deleter(server.port);
+    owner.hello({});
+    deleter.hello({});
+    const std::string id = owner.upload(big, 1).surface();
+    const std::map<uint64_t, float> alpha{{2, 0.2f}, {3, 0.7f}};
+    for (const auto& [request, a] : alpha) owner.send(level_request(id, {0.05f}, request, a));
+    ASSERT_EQ(await_metric(server.http_port, "ddsimp_reductions_running", 2), 2);
+    deleter.send(delete_message(id, 1));
+    EXPECT_TRUE(deleter.expect<v1::SurfaceDeleted>().removed());
+    for (int i = 0; i < 2; ++i) {
+        const RawClient::Level level = owner.level();
+        const uint64_t request = level.begin.request_id();
+        ASSERT_TRUE(alpha.count(request)) << request;
+        EXPECT_TRUE(same_bytes(protocol::decode_mesh(level.bytes, protocol::layout_of(level.begin)),
+                               offline_level(big, alpha.at(request), 0.05f)))
+            << "request " << request;
+    }
+    EXPECT_EQ(metric(server.http_port, "ddsimp_reductions_yielded_total"), 1);
 }
 
 // At its quota, a token's re-upload of bytes already stored where it goes is answered with the
