@@ -154,15 +154,27 @@ TEST(SurfaceDeletion, AnotherTokensSurfaceIsRefused) {
     EXPECT_EQ(listed(bob).size(), 1u);
 }
 
+// A server with two workers and a surface whose runs last, uploaded by `owner`; `deleter` is
+// another client of the same user (a server without tokens has one).
+struct LargeUpload {
+    explicit LargeUpload(const std::string& name)
+        : server(temp_dir(name), {"--threads", "2", "--sample", ""}), owner(server.port),
+          deleter(server.port) {
+        owner.hello({});
+        deleter.hello({});
+        id = owner.upload(big, 1).surface();
+    }
+    ServerProcess server;
+    const Surface big = with_test_fields(icosphere(7)); // 327,680 triangles
+    RawClient owner, deleter;
+    std::string id;
+};
+
 // A surface deleted while a job computes on it stays valid for that job: its levels arrive, the
 // same as the library makes them; the next request for it is NOT_FOUND.
 TEST(SurfaceDeletion, ARunningJobKeepsItsSurface) {
-    ServerProcess server(temp_dir("delete-running"), {"--threads", "2", "--sample", ""});
-    const Surface big = with_test_fields(icosphere(7)); // 327,680 triangles: long enough a run
-    RawClient owner(server.port), deleter(server.port);
-    owner.hello({});
-    deleter.hello({});
-    const std::string id = owner.upload(big, 1).surface();
+    LargeUpload u("delete-running");
+    auto& [server, big, owner, deleter, id] = u;
     owner.send(level_request(id, {0.05f}, 2));
     // The job has its surface once its run counts.
     ASSERT_EQ(await_metric(server.http_port, "ddsimp_reductions_running", 1), 1);
@@ -181,12 +193,8 @@ TEST(SurfaceDeletion, ARunningJobKeepsItsSurface) {
 // though the surface was deleted in between: the delete itself takes the worker of the newer of
 // the owner's two running jobs.
 TEST(SurfaceDeletion, AJobThatYieldedKeepsItsSurface) {
-    ServerProcess server(temp_dir("delete-yielded"), {"--threads", "2", "--sample", ""});
-    const Surface big = with_test_fields(icosphere(7)); // 327,680 triangles: long enough a run
-    RawClient owner(server.port), deleter(server.port);
-    owner.hello({});
-    deleter.hello({});
-    const std::string id = owner.upload(big, 1).surface();
+    LargeUpload u("delete-yielded");
+    auto& [server, big, owner, deleter, id] = u;
     const std::map<uint64_t, float> alpha{{2, 0.2f}, {3, 0.7f}};
     for (const auto& [request, a] : alpha) owner.send(level_request(id, {0.05f}, request, a));
     ASSERT_EQ(await_metric(server.http_port, "ddsimp_reductions_running", 2), 2);
