@@ -263,6 +263,8 @@ void Simplifier::check_published(size_t first, std::atomic<size_t>& claimed,
         const size_t end = wait_published(begin + kCheckBatch);
         if (begin >= end || stopped.load(std::memory_order_relaxed)) return;
         for (size_t i = begin; i < end; ++i) {
+            if (collapse)
+                prefetch_ahead(i, end, [&](size_t k) { return ranked_[selected_[k]].id; });
             const detail::Candidate& c = ranked_[selected_[i]];
             checked_[first + i] = collapse ? check_collapse(c.id, c.weight(), plans_[first + i])
                                            : check_removal(c.id, first + i);
@@ -383,6 +385,8 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     }
     const size_t applied = in_blocks(count, [&](size_t begin, size_t end) {
         for (size_t j = begin; j < end; ++j) {
+            if (collapse)
+                prefetch_ahead(j, end, [&](size_t k) { return plans_[taken_[k].second].halfedge; });
             const uint32_t t = taken_[j].second;
             if (collapse) {
                 apply_collapse(plans_[t], operations_ + j);
