@@ -10,7 +10,8 @@ namespace ddsimp {
 
 using detail::kNone;
 
-template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) const {
+template <class F>
+bool Simplifier::walk_neighbourhood(uint32_t id, uint32_t a, uint32_t b, F&& visit) const {
     // A walk around one star: each step visits the next neighbour (on a boundary, last the one
     // that closes the fan) and loads the half-edge after it.
     struct Star {
@@ -37,7 +38,6 @@ template <class F> bool Simplifier::walk_neighbourhood(uint32_t id, F&& visit) c
     }
     // An edge's two stars step by step side by side: each step waits on its own star's last
     // load only. The order of the visits does not change what is selected (see select).
-    const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
     Star sa{mesh_.out[a], mesh_.out[a]}, sb{mesh_.out[b], mesh_.out[b]};
     if (!visit(a) || !visit(b)) return false;
     while (!sa.over || !sb.over) {
@@ -59,6 +59,7 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     // stage reading what the one before fetched.
     constexpr size_t kAhead = 8;
     auto id_at = [&](size_t j) { return ranked_[pending_[j]].id; };
+    auto ends_at = [&](size_t j) { return share_ends_[pending_[j]]; };
     // Held by an operation taken in an earlier round of this pass (their checks are done).
     auto taken = [&](const Hold& hold) {
         return hold.stamp >= pass_stamp && hold.stamp != round_stamp &&
@@ -71,37 +72,40 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     for (size_t j = 0; j < count; ++j) {
         if (j > 0 && j % kBlock == 0 && !checkpoint()) return false;
         if (j + 2 * kAhead < count) {
-            const uint32_t id = id_at(j + 2 * kAhead);
-            __builtin_prefetch(collapse ? &mesh_.origin[id] : &mesh_.out[id]);
+            if (collapse)
+                __builtin_prefetch(&share_ends_[pending_[j + 2 * kAhead]]);
+            else
+                __builtin_prefetch(&mesh_.out[id_at(j + 2 * kAhead)]);
         }
         if (j + kAhead < count) {
-            const uint32_t id = id_at(j + kAhead);
             if (collapse) {
-                const uint32_t a = mesh_.origin[id], b = mesh_.dest(id);
+                const auto [a, b] = ends_at(j + kAhead);
                 __builtin_prefetch(&busy_[a]), __builtin_prefetch(&busy_[b]);
                 __builtin_prefetch(&mesh_.out[a]), __builtin_prefetch(&mesh_.out[b]);
             } else {
-                __builtin_prefetch(&busy_[id]);
+                __builtin_prefetch(&busy_[id_at(j + kAhead)]);
             }
         }
         if (j + kAhead / 2 < count) { // the first triangle of each star
-            const uint32_t id = id_at(j + kAhead / 2);
             auto fetch_star = [&](uint32_t v) {
                 const uint32_t h = mesh_.out[v];
                 __builtin_prefetch(&mesh_.origin[h]), __builtin_prefetch(&mesh_.twin[h]);
             };
-            if (collapse)
-                fetch_star(mesh_.origin[id]), fetch_star(mesh_.dest(id));
-            else
-                fetch_star(id);
+            if (collapse) {
+                const auto [a, b] = ends_at(j + kAhead / 2);
+                fetch_star(a), fetch_star(b);
+            } else {
+                fetch_star(id_at(j + kAhead / 2));
+            }
         }
         const uint32_t rank = pending_[j], id = id_at(j);
+        const Ends ends = collapse ? share_ends_[rank] : Ends{id, id};
         // An edge's far end first: what holds either end shows before the walk reaches it.
         // Which vertex shows a candidate blocked or out does not change what is selected: nor
         // does which holder it records as its blocker, since one that a taken operation blocks
         // too is out in the next round anyway.
         if (collapse) {
-            const Hold& far = busy_[mesh_.dest(id)];
+            const Hold& far = busy_[ends.b];
             if (taken(far)) continue;
             if (far.stamp == round_stamp) {
                 blocked_.push_back(rank), blocked_by_.push_back(far.holder);
@@ -110,7 +114,7 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
         }
         size_t n = 0;
         uint32_t blocker = kNone;
-        const bool free = walk_neighbourhood(id, [&](uint32_t v) {
+        const bool free = walk_neighbourhood(id, ends.a, ends.b, [&](uint32_t v) {
             const Hold& hold = busy_[v];
             if (n == kMaxNeighbourhood || taken(hold)) return false;
             if (hold.stamp == round_stamp) return blocker = hold.holder, false;

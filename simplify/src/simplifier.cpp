@@ -303,6 +303,17 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     if (ranked_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;
     share_limit_ = ranked_[share - 1].weight();
     ++pass_;
+    if (collapse) {
+        share_ends_.resize(share);
+        parallel_.for_range(share, [&](size_t begin, size_t end) {
+            constexpr size_t kAhead = 16; // the half-edges are scattered: fetched ahead
+            for (size_t i = begin; i < end; ++i) {
+                if (i + kAhead < end) __builtin_prefetch(&mesh_.origin[ranked_[i + kAhead].id]);
+                const uint32_t h = ranked_[i].id;
+                share_ends_[i] = {mesh_.origin[h], mesh_.dest(h)};
+            }
+        });
+    }
 
     // Select, in rank order: a candidate whose neighbourhood no candidate selected before it
     // touches (selection.cpp). The checks run on the other threads while the walk goes on, each

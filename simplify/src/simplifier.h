@@ -188,7 +188,15 @@ private:
     // removes and their neighbours, some twice). walk_neighbourhood calls visit(v) on each until
     // it returns false; returns whether it went through all.
     static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
-    template <class F> bool walk_neighbourhood(uint32_t id, F&& visit) const;
+    // An edge's neighbourhood starts at its ends a and b; a vertex's at id (a and b unused).
+    template <class F>
+    bool walk_neighbourhood(uint32_t id, uint32_t a, uint32_t b, F&& visit) const;
+    // Edge collapse: the ends of the edge at each place of the pass's share (origin, then
+    // destination), listed on the threads before the walk, which then reads them in order.
+    struct Ends {
+        uint32_t a, b;
+    };
+    detail::Array<Ends> share_ends_;
     // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
     // in rank order. A candidate whose neighbourhood no candidate selected before it in this
     // round holds goes into selected_ and holds it (busy_ stamped round_stamp, its holder index
