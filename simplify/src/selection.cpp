@@ -10,8 +10,7 @@ namespace ddsimp {
 
 using detail::kNone;
 
-template <class F>
-bool Simplifier::walk_neighbourhood(uint32_t id, uint32_t a, uint32_t b, F&& visit) const {
+template <class F> bool Simplifier::walk_neighbourhood(const Ends& ends, F&& visit) const {
     // A walk around one star: each step visits the next neighbour (on a boundary, last the one
     // that closes the fan) and loads the half-edge after it.
     struct Star {
@@ -30,14 +29,15 @@ bool Simplifier::walk_neighbourhood(uint32_t id, uint32_t a, uint32_t b, F&& vis
         return true;
     };
     if (options_.strategy == Strategy::VertexRemoval) {
-        Star s{mesh_.out[id], mesh_.out[id]};
-        if (!visit(id)) return false;
+        Star s{mesh_.out[ends.a], mesh_.out[ends.a]};
+        if (!visit(ends.a)) return false;
         while (!s.over)
             if (!step(s)) return false;
         return true;
     }
     // An edge's two stars step by step side by side: each step waits on its own star's last
     // load only. The order of the visits does not change what is selected (see select).
+    const auto [a, b] = ends;
     Star sa{mesh_.out[a], mesh_.out[a]}, sb{mesh_.out[b], mesh_.out[b]};
     if (!visit(a) || !visit(b)) return false;
     while (!sa.over || !sb.over) {
@@ -98,8 +98,8 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
                 fetch_star(id_at(j + kAhead / 2));
             }
         }
-        const uint32_t rank = pending_[j], id = id_at(j);
-        const Ends ends = collapse ? share_ends_[rank] : Ends{id, id};
+        const uint32_t rank = pending_[j];
+        const Ends ends = collapse ? share_ends_[rank] : Ends{id_at(j), id_at(j)};
         // An edge's far end first: what holds either end shows before the walk reaches it.
         // Which vertex shows a candidate blocked or out does not change what is selected: nor
         // does which holder it records as its blocker, since one that a taken operation blocks
@@ -114,7 +114,7 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
         }
         size_t n = 0;
         uint32_t blocker = kNone;
-        const bool free = walk_neighbourhood(id, ends.a, ends.b, [&](uint32_t v) {
+        const bool free = walk_neighbourhood(ends, [&](uint32_t v) {
             const Hold& hold = busy_[v];
             if (n == kMaxNeighbourhood || taken(hold)) return false;
             if (hold.stamp == round_stamp) return blocker = hold.holder, false;

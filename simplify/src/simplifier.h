@@ -188,14 +188,14 @@ private:
     // removes and their neighbours, some twice). walk_neighbourhood calls visit(v) on each until
     // it returns false; returns whether it went through all.
     static constexpr size_t kMaxNeighbourhood = 2 * kMaxValence + 2;
-    // An edge's neighbourhood starts at its ends a and b; a vertex's at id (a and b unused).
-    template <class F>
-    bool walk_neighbourhood(uint32_t id, uint32_t a, uint32_t b, F&& visit) const;
-    // Edge collapse: the ends of the edge at each place of the pass's share (origin, then
-    // destination), listed on the threads before the walk, which then reads them in order.
+    // Where a candidate's neighbourhood starts: an edge's origin a and destination b; a vertex
+    // (vertex removal) in both.
     struct Ends {
         uint32_t a, b;
     };
+    template <class F> bool walk_neighbourhood(const Ends& ends, F&& visit) const;
+    // Edge collapse: the ends of the edge at each place of the pass's share, listed on the
+    // threads when the pass begins; the walk reads them in rank order.
     detail::Array<Ends> share_ends_;
     // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
     // in rank order. A candidate whose neighbourhood no candidate selected before it in this
