@@ -50,7 +50,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     centre = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     components = inv_diagonal > 0 ? m_all : 0;
     size = kSharedTerms + 4 * components;
-    values.assign(capacity * size, 0.0);
+    assign_on_threads(values, capacity * size, 0.0, parallel);
     area = 0;
     if (inv_diagonal == 0) return; // a single point: nothing can move
 

@@ -4,14 +4,18 @@
 // their whole 2 MiB pages are marked MADV_HUGEPAGE, so that the kernel backs them with huge pages
 // where its settings allow (Linux: transparent_hugepage `madvise` or `always`). An array's last
 // part stays in small pages, so that its resident memory is what it touches. Smaller arrays, and
-// every array where the system has no such advice, are allocated as usual.
+// every array where the system has no such advice, are allocated as usual. assign_on_threads
+// fills a large array with its pages first touched on the engine's threads.
 #pragma once
+
+#include "parallel.h"
 
 #include <sys/mman.h>
 
 #include <cstddef>
 #include <cstdint>
 #include <new>
+#include <type_traits>
 #include <vector>
 
 namespace ddsimp::detail {
@@ -54,5 +58,22 @@ private:
 
 // A vector whose storage goes to huge pages once it is large (see above).
 template <class T> using Array = std::vector<T, HugePageAllocator<T>>;
+
+// array = n copies of value, its fresh pages first written on the threads: the first write to a
+// page is a fault in which the kernel clears it, serial work for one thread otherwise.
+template <class T>
+void assign_on_threads(Array<T>& array, size_t n, const std::type_identity_t<T>& value,
+                       Parallel& parallel) {
+    array.clear();
+    array.reserve(n);
+    constexpr size_t kPage = 4096;
+    volatile char* bytes = reinterpret_cast<char*>(array.data()); // not dropped for assign's
+    parallel.for_range((n * sizeof(T) + kPage - 1) / kPage,
+                       [&](size_t begin, size_t end) {
+                           for (size_t page = begin; page < end; ++page) bytes[page * kPage] = 0;
+                       },
+                       HugePageAllocator<T>::kHugePage / kPage);
+    array.assign(n, value);
+}
 
 } // namespace ddsimp::detail

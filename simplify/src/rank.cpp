@@ -149,7 +149,7 @@ bool Simplifier::rank_candidates(size_t& share) {
     if (!all) gather_stale();
     const size_t count = all ? stale_.size() : stale_ids_.size();
     auto id_at = [&](size_t i) { return all ? uint32_t(i) : stale_ids_[i]; };
-    fresh_status_.resize(count);
+    detail::assign_on_threads(fresh_status_, count, 0, parallel_);
     size_t dropped = 0;
     // An edge's key reads its ends' records and quadrics, scattered over the surface: fetched a
     // few ids ahead (a prefetch changes no result).
@@ -191,7 +191,7 @@ bool Simplifier::rank_candidates(size_t& share) {
                 placed += fresh_status_[i];
             return placed;
         },
-        [&](size_t total) { fresh_.resize(total); },
+        [&](size_t total) { detail::assign_on_threads(fresh_, total, {}, parallel_); },
         [&](size_t p, size_t k) {
             const size_t end = piece_begin(p + 1, count, pieces);
             for (size_t i = piece_begin(p, count, pieces); i < end; ++i) {

@@ -66,14 +66,15 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
     // Edge collapse's ids are half-edges, vertex removal's vertices.
     const size_t ids = collapse ? surface.triangles.size() : capacity;
-    fail_.assign(ids, 0);
-    raised_.assign(ids, 0);
-    stale_.assign(ids, kStale | kKeyStale); // the first ranking visits every id
-    placed_.assign(ids, kUnplaced);
-    if (collapse) edge_weight_.assign(ids, 0);
-    epoch_.assign(capacity, 0);
-    busy_.assign(capacity, {0, 0});
-    if (collapse) fail_at_.assign(surface.triangles.size(), kNoFold);
+    using detail::assign_on_threads;
+    assign_on_threads(fail_, ids, 0, parallel_);
+    assign_on_threads(raised_, ids, 0, parallel_);
+    assign_on_threads(stale_, ids, kStale | kKeyStale, parallel_); // the first ranking: every id
+    assign_on_threads(placed_, ids, kUnplaced, parallel_);
+    if (collapse) assign_on_threads(edge_weight_, ids, 0, parallel_);
+    assign_on_threads(epoch_, capacity, 0, parallel_);
+    assign_on_threads(busy_, capacity, {0, 0}, parallel_);
+    if (collapse) assign_on_threads(fail_at_, surface.triangles.size(), kNoFold, parallel_);
 
     record_.strategy_ = options.strategy;
     record_.threads_ = options.threads;

@@ -19,7 +19,7 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     for (const Field& f : s.fields)
         stride += size_t(f.components), fields.emplace_back(f.kind, f.components);
     record = 6 + stride;
-    records.assign(record * capacity, 0.0f);
+    assign_on_threads(records, record * capacity, 0.0f, parallel);
     const bool reorder = !order.empty();
     parallel.for_each(vertex_count, [&](size_t v) {
         const size_t u = reorder ? order[v] : v;
@@ -32,19 +32,19 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
 
     const size_t halfedges = s.triangles.size();
     if (reorder) {
-        origin.resize(halfedges);
+        assign_on_threads(origin, halfedges, kNone, parallel);
         parallel.for_each(halfedges, [&](size_t h) { origin[h] = rank[s.triangles[h]]; });
     } else {
         origin.assign(s.triangles.begin(), s.triangles.end());
     }
-    twin.assign(halfedges, kNone);
-    line.assign(halfedges, 0);
-    angle.assign(track_angles ? halfedges : 0, 0.0f);
+    assign_on_threads(twin, halfedges, kNone, parallel);
+    assign_on_threads(line, halfedges, 0, parallel);
+    assign_on_threads(angle, track_angles ? halfedges : 0, 0.0f, parallel);
     parallel.for_each(halfedges / 3, [&](size_t t) { update_angles(uint32_t(t)); });
     live_triangles = s.triangle_count();
-    kind.assign(capacity, VertexKind::Dead);
-    valence.assign(capacity, 0);
-    out.assign(capacity, kNone);
+    assign_on_threads(kind, capacity, VertexKind::Dead, parallel);
+    assign_on_threads(valence, capacity, 0, parallel);
+    assign_on_threads(out, capacity, kNone, parallel);
 
     // Outgoing half-edges grouped by origin (counting sort), each with its destination, to find
     // twins without hashing. Each vertex's group is in half-edge order, so a sum over it adds in
