@@ -78,8 +78,7 @@ void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
         __builtin_prefetch(mesh_.position_of(v));
         if (quadrics_.values.empty()) continue;
         const char* q = reinterpret_cast<const char*>(quadrics_.of(v));
-        for (size_t line = 0; line < quadrics_.size * sizeof(ErrorQuadrics::Term);
-             line += kCacheLine)
+        for (size_t line = 0; line < quadrics_.size * sizeof(double); line += kCacheLine)
             __builtin_prefetch(q + line);
     }
 }
@@ -387,8 +386,7 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
         for (size_t j = 0; j < quadrics_.components; ++j)
             if (quadrics_.continuous[j])
                 m.data_of(n)[quadrics_.offset[j]] = made[3 + quadrics_.offset[j]];
-    if (quadric_terms_ || least_error_) // n is a's slot
-        quadrics_.merge(n, b, plan.point, m.data_of(n));
+    if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
     for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);

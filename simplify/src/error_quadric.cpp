@@ -21,33 +21,6 @@ void add_plane(double* q, const Vec3& n, double e, double w) {
     q[9] += w * e * e;
 }
 
-namespace {
-
-// A quadric's terms q (kSharedTerms + 4m) as seen from a frame that lies at d (position) and e
-// (data, m numbers) in q's own: y = y'' + d and s' = s'' + e substituted into E. A, W and G
-// stay; b, c and D take what the move adds. In doubles, so that the terms that cancel do so
-// before they are stored.
-template <class T>
-void shift_terms(const T* q, size_t m, const double* d, const double* e, double* out) {
-    constexpr size_t kShared = ErrorQuadrics::kSharedTerms;
-    std::copy_n(q, kShared + 4 * m, out);
-    const double ad[3] = {q[0] * d[0] + q[1] * d[1] + q[2] * d[2],
-                          q[1] * d[0] + q[3] * d[1] + q[4] * d[2],
-                          q[2] * d[0] + q[4] * d[1] + q[5] * d[2]};
-    for (int k = 0; k < 3; ++k) out[6 + k] += ad[k];
-    out[9] +=
-        d[0] * ad[0] + d[1] * ad[1] + d[2] * ad[2] + 2 * (q[6] * d[0] + q[7] * d[1] + q[8] * d[2]);
-    for (size_t j = 0; j < m; ++j) {
-        const size_t gj = kShared + 4 * j;
-        const double gd = q[gj] * d[0] + q[gj + 1] * d[1] + q[gj + 2] * d[2];
-        for (int k = 0; k < 3; ++k) out[6 + k] -= e[j] * q[gj + k];
-        out[9] += q[10] * e[j] * e[j] - 2 * e[j] * (gd + q[gj + 3]);
-        out[gj + 3] += gd - q[10] * e[j];
-    }
-}
-
-} // namespace
-
 void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry,
                           double data, size_t capacity, Parallel& parallel) {
     // Scales: the bounding box of the live vertices, each counted component's range.
@@ -76,9 +49,8 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     inv_diagonal = diagonal > 0 ? 1 / diagonal : 0;
     centre = {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
     components = inv_diagonal > 0 ? m_all : 0;
-    frame = kSharedTerms + 4 * components;
-    size = frame + 3 + components;
-    assign_on_threads(values, capacity * size, Term(0), parallel);
+    size = kSharedTerms + 4 * components;
+    assign_on_threads(values, capacity * size, 0.0, parallel);
     area = 0;
     if (inv_diagonal == 0) return; // a single point: nothing can move
 
@@ -91,20 +63,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     // taking the triangles in order, so that a vertex sums its terms in triangle order.
     parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi, size_t) {
         auto mine = [&](uint32_t v) { return v >= lo && v < hi; };
-        for (uint32_t v = uint32_t(lo); v < hi; ++v) {
-            if (mesh.kind[v] == VertexKind::Dead) continue;
-            const Vec3 x = position(v);
-            for (int k = 0; k < 3; ++k) of(v)[frame + k] = Term(x[k]);
-            for (size_t j = 0; j < components; ++j) of(v)[frame + 3 + j] = Term(datum(v, j));
-        }
-        // A triangle's terms (`face`, in the whole surface's frame) moved into corner c's frame
-        // (`origin`: where it lies) and added to c's first `count` terms.
-        std::vector<double> face(frame), moved(frame), origin(3 + components);
-        auto add_face = [&](uint32_t c, size_t count) {
-            std::copy_n(of(c) + frame, origin.size(), origin.begin());
-            shift_terms(face.data(), components, origin.data(), origin.data() + 3, moved.data());
-            for (size_t i = 0; i < count; ++i) of(c)[i] = Term(of(c)[i] + moved[i]);
-        };
+        std::vector<double> face(size);
         for (uint32_t t = 0; 3 * t < halfedges; ++t) {
             const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1],
                                    mesh.origin[3 * t + 2]};
@@ -138,7 +97,8 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
                 q[kSharedTerms + 3 + 4 * j] = w * d;
             }
             for (uint32_t c : v)
-                if (mine(c)) add_face(c, frame);
+                if (mine(c))
+                    for (size_t i = 0; i < size; ++i) of(c)[i] += face[i];
         }
         if (geometry == 0) return;
         // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like
@@ -156,7 +116,8 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
             std::fill(face.begin(), face.end(), 0.0);
             add_plane(face.data(), unit, -dot(unit, xa), geometry * dot(edge, edge));
             for (uint32_t c : {a, b})
-                if (mine(c)) add_face(c, 10);
+                if (mine(c))
+                    for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
         }
     });
     // The surface's area, summed in triangle order.
@@ -170,42 +131,9 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
 }
 
 void ErrorQuadrics::add(uint32_t to, uint32_t from, double scale) {
-    Term* q = of(to);
-    const Term* r = of(from);
-    // The moved terms, then where to's frame lies in from's; on the stack but for many fields.
-    constexpr size_t kOnStack = 64;
-    double stack[kOnStack];
-    std::vector<double> heap;
-    const size_t need = frame + 3 + components;
-    double* moved = need <= kOnStack ? stack : (heap.resize(need), heap.data());
-    double* delta = moved + frame;
-    for (size_t i = 0; i < 3 + components; ++i) delta[i] = double(q[frame + i]) - r[frame + i];
-    shift_terms(r, components, delta, delta + 3, moved);
-    for (size_t i = 0; i < frame; ++i) q[i] = Term(q[i] + scale * moved[i]);
-}
-
-void ErrorQuadrics::merge(uint32_t a, uint32_t b, const Vec3& x, const float* f) {
-    // The new frame as it will be stored, then both quadrics moved into it and summed.
-    constexpr size_t kOnStack = 96;
-    double stack[kOnStack];
-    std::vector<double> heap;
-    const size_t need = 2 * frame + 2 * (3 + components); // moved, sum, frame, move
-    double* moved = need <= kOnStack ? stack : (heap.resize(need), heap.data());
-    double *sum = moved + frame, *origin = sum + frame, *delta = origin + 3 + components;
-    const Vec3 y = scale(sub(x, centre), inv_diagonal);
-    for (int k = 0; k < 3; ++k) origin[k] = Term(y[k]);
-    for (size_t j = 0; j < components; ++j)
-        origin[3 + j] = Term((double(f[offset[j]]) - low[j]) * inv_range[j]);
-    std::fill_n(sum, frame, 0.0);
-    for (const uint32_t v : {a, b}) {
-        const Term* q = of(v);
-        for (size_t i = 0; i < 3 + components; ++i) delta[i] = origin[i] - q[frame + i];
-        shift_terms(q, components, delta, delta + 3, moved);
-        for (size_t i = 0; i < frame; ++i) sum[i] += moved[i];
-    }
-    Term* q = of(a);
-    for (size_t i = 0; i < frame; ++i) q[i] = Term(sum[i]);
-    for (size_t i = 0; i < 3 + components; ++i) q[frame + i] = Term(origin[i]);
+    double* q = of(to);
+    const double* r = of(from);
+    for (size_t i = 0; i < size; ++i) q[i] += scale * r[i];
 }
 
 namespace {
@@ -219,17 +147,15 @@ using Pair = double __attribute__((vector_size(16)));
 
 SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const Vec3& xb,
                                   const float* fa, const float* fb, SegmentSlope* slope) const {
-    const Term *qv = of(v), *qw = of(w);
-    const Vec3 xn = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
+    const double *qv = of(v), *qw = of(w);
+    const Vec3 x = scale(sub(xa, centre), inv_diagonal), dx = scale(sub(xb, xa), inv_diagonal);
     // Each quadric's terms are summed as for one quadric on its own (v in lane 0, w in lane 1),
-    // then the two added: the segment's terms are computed once and both quadrics at once. The
-    // segment's start is seen from each vertex's frame.
-    auto q = [&](size_t i) { return Pair{double(qv[i]), double(qw[i])}; };
-    const Pair x[3] = {xn[0] - q(frame), xn[1] - q(frame + 1), xn[2] - q(frame + 2)};
-    auto dot_q = [&](const auto& y, size_t i) { // (q[i], q[i + 1], q[i + 2]) . y per lane
+    // then the two added: the segment's terms are computed once and both quadrics at once.
+    auto q = [&](size_t i) { return Pair{qv[i], qw[i]}; };
+    auto dot_q = [&](const Vec3& y, size_t i) { // (q[i], q[i + 1], q[i + 2]) . y per lane
         return q(i) * y[0] + q(i + 1) * y[1] + q(i + 2) * y[2];
     };
-    auto times_a = [&](const auto& y, Pair* out) { // the symmetric A (q[0..6)) times y
+    auto times_a = [&](const Vec3& y, Pair* out) { // the symmetric A (q[0..6)) times y
         out[0] = q(0) * y[0] + q(1) * y[1] + q(2) * y[2];
         out[1] = q(1) * y[0] + q(3) * y[1] + q(4) * y[2];
         out[2] = q(2) * y[0] + q(4) * y[1] + q(5) * y[2];
@@ -245,8 +171,7 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
     Pair slope1[3] = {adx[0], adx[1], adx[2]};
     for (size_t j = 0; j < components; ++j) {
         const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
-        const Pair sa = (a - low[j]) * inv_range[j] - q(frame + 3 + j);
-        const double ds = (b - a) * inv_range[j];
+        const double sa = (a - low[j]) * inv_range[j], ds = (b - a) * inv_range[j];
         const size_t gj = kSharedTerms + 4 * j;
         const Pair gx = dot_q(x, gj) + q(gj + 3), gd = dot_q(dx, gj);
         e0 += wt * sa * sa - 2 * sa * gx;
@@ -256,15 +181,15 @@ SegmentError ErrorQuadrics::along(uint32_t v, uint32_t w, const Vec3& xa, const 
             for (size_t k = 0; k < 3; ++k) slope0[k] -= sa * q(gj + k), slope1[k] -= ds * q(gj + k);
     }
     if (slope) {
-        for (size_t k = 0; k < 6; ++k) slope->a[k] = double(qv[k]) + qw[k];
+        for (size_t k = 0; k < 6; ++k) slope->a[k] = qv[k] + qw[k];
         for (size_t k = 0; k < 3; ++k)
             slope->slope0[k] = slope0[k][0] + slope0[k][1],
             slope->slope1[k] = slope1[k][0] + slope1[k][1];
     }
-    // E sums squares of terms of size up to ~1 (coordinates in diagonals from the frame, data
-    // in ranges) weighted by A's trace and W: errors within 1e-12 of that are equal.
-    auto noise = [](const Term* r) {
-        return 1e-12 * (double(r[0]) + r[3] + r[5] + r[10] + std::abs(double(r[9])));
+    // E is a sum of squares of terms of size up to ~1 (coordinates in diagonals, data in ranges)
+    // weighted by A's trace and W: rounding leaves about 1e-12 of that.
+    auto noise = [](const double* r) {
+        return 1e-12 * (r[0] + r[3] + r[5] + r[10] + std::abs(r[9]));
     };
     SegmentError e;
     e.e0 = e0[0] + e0[1], e.h = h[0] + h[1], e.g = g[0] + g[1];
@@ -296,37 +221,29 @@ T quadric_error(Q q, const Y& y, size_t components, Datum datum) {
 
 double ErrorQuadrics::at(uint32_t v, uint32_t w, const Vec3& x, const float* fa, const float* fb,
                          double t) const {
-    const Term *qv = of(v), *qw = of(w);
-    auto q = [&](size_t i) { return Pair{double(qv[i]), double(qw[i])}; }; // v, w: as along
-    const Vec3 xn = scale(sub(x, centre), inv_diagonal);
-    const Pair y[3] = {xn[0] - q(frame), xn[1] - q(frame + 1), xn[2] - q(frame + 2)};
-    const Pair e = quadric_error<Pair>(q, y, components, [&](size_t j) {
-        return ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
-                   inv_range[j] -
-               q(frame + 3 + j);
-    });
+    const double *qv = of(v), *qw = of(w);
+    auto q = [&](size_t i) { return Pair{qv[i], qw[i]}; }; // v in lane 0, w in lane 1, as along
+    const Pair e =
+        quadric_error<Pair>(q, scale(sub(x, centre), inv_diagonal), components, [&](size_t j) {
+            return ((1 - t) * double(fa[offset[j]]) + t * double(fb[offset[j]]) - low[j]) *
+                   inv_range[j];
+        });
     return std::max(0.0, e[0] + e[1]);
 }
 
 double ErrorQuadrics::least_data(uint32_t v, uint32_t w, const Vec3& x, const float* fa,
                                  const float* fb, double t, float* out) const {
-    const Term *qv = of(v), *qw = of(w);
-    const double weight = double(qv[10]) + qw[10];
+    const double *qv = of(v), *qw = of(w);
+    const double weight = qv[10] + qw[10];
     if (!(weight > 0)) return 0;
     const Vec3 y = scale(sub(x, centre), inv_diagonal);
-    // sum_q W_q (s - sigma_q)^2 - 2 (s - sigma_q) r_q, r_q = G_q.(y - o_q) + D_q: the terms in s
-    // are W s^2 - 2 s sum_q (r_q + W_q sigma_q).
-    auto pull = [&](const Term* q, size_t j) {
-        const size_t gj = kSharedTerms + 4 * j;
-        double r = q[gj + 3];
-        for (int k = 0; k < 3; ++k) r += q[gj + k] * (y[k] - q[frame + k]);
-        return r + double(q[10]) * q[frame + 3 + j];
-    };
     double change = 0;
     for (size_t j = 0; j < components; ++j) {
         if (!continuous[j]) continue;
+        const size_t gj = kSharedTerms + 4 * j;
         // E(s) = W s^2 - 2 r s + (terms without s), least at r / W.
-        const double r = pull(qv, j) + pull(qw, j);
+        const double r = qv[gj] * y[0] + qv[gj + 1] * y[1] + qv[gj + 2] * y[2] + qv[gj + 3] +
+                         (qw[gj] * y[0] + qw[gj + 1] * y[1] + qw[gj + 2] * y[2] + qw[gj + 3]);
         const double a = double(fa[offset[j]]), b = double(fb[offset[j]]);
         const double sa = (a - low[j]) * inv_range[j], sb = (b - low[j]) * inv_range[j];
         const double blend = (1 - t) * sa + t * sb;
@@ -348,35 +265,32 @@ double ErrorQuadrics::at_blend(uint32_t v, const WorkingMesh& mesh, const uint32
     Vec3 x{0, 0, 0};
     for (size_t i = 0; i < count; ++i) x = detail::add(x, scale(mesh.point(points[i]), weight(i)));
     if (position) *position = x;
-    const Term* qv = of(v);
+    const double* qv = of(v);
     auto datum = [&](size_t j) {
         double s = 0;
         for (size_t i = 0; i < count; ++i)
             s += weight(i) * double(mesh.data_of(points[i])[offset[j]]);
-        return (s - low[j]) * inv_range[j] - qv[frame + 3 + j];
+        return (s - low[j]) * inv_range[j];
     };
-    const Vec3 y =
-        sub(scale(sub(x, centre), inv_diagonal), {qv[frame], qv[frame + 1], qv[frame + 2]});
-    return std::max(
-        0.0, quadric_error<double>([&](size_t i) { return double(qv[i]); }, y, components, datum));
+    return std::max(0.0,
+                    quadric_error<double>([&](size_t i) { return qv[i]; },
+                                          scale(sub(x, centre), inv_diagonal), components, datum));
 }
 
 double ErrorQuadrics::least_at(uint32_t v, const WorkingMesh& mesh, const uint32_t* points,
                                size_t count) const {
-    const Term* qv = of(v);
-    auto q = [&](size_t i) { return Pair{double(qv[i]), double(qv[i])}; };
-    const Vec3 o{qv[frame], qv[frame + 1], qv[frame + 2]};
+    const double* qv = of(v);
+    auto q = [&](size_t i) { return Pair{qv[i], qv[i]}; };
     double least = INFINITY;
     for (size_t i = 0; i < count; i += 2) { // two points side by side (an odd last one twice)
         const uint32_t a = points[i], b = points[std::min(i + 1, count - 1)];
-        const Vec3 ya = sub(scale(sub(mesh.point(a), centre), inv_diagonal), o),
-                   yb = sub(scale(sub(mesh.point(b), centre), inv_diagonal), o);
+        const Vec3 ya = scale(sub(mesh.point(a), centre), inv_diagonal),
+                   yb = scale(sub(mesh.point(b), centre), inv_diagonal);
         const Pair y[3] = {{ya[0], yb[0]}, {ya[1], yb[1]}, {ya[2], yb[2]}};
         const float *fa = mesh.data_of(a), *fb = mesh.data_of(b);
         const Pair e = quadric_error<Pair>(q, y, components, [&](size_t j) {
             return Pair{(double(fa[offset[j]]) - low[j]) * inv_range[j],
-                        (double(fb[offset[j]]) - low[j]) * inv_range[j]} -
-                   double(qv[frame + 3 + j]);
+                        (double(fb[offset[j]]) - low[j]) * inv_range[j]};
         });
         least = std::min({least, std::max(0.0, e[0]), std::max(0.0, e[1])});
     }

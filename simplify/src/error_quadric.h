@@ -9,15 +9,11 @@
 // `ddsimp compare` reports errors in, so both terms are unit-free in the same way and
 // max(alpha, kMinGeometryWeight) * geometric + (1 - alpha) * data is one quadric (simplifier.h).
 // Per vertex 11 + 4m numbers (m: the data components that count, 0 when alpha = 1): A (6,
-// symmetric 3x3), b (3), c, W, then per component G (3) and D, with
-//     E(x, s) = y.A.y + 2 b.y + c + W s'.s' - 2 sum_j s'_j (G_j.y + D_j),
-// y = x - o and s' = s - sigma measured from the vertex's own frame (o, sigma): its position and
-// data when the quadrics were set up, stored after the terms (3 + m numbers). In that frame the
-// terms stay of the size of the errors they sum, so floats hold them: in one frame for the
-// whole surface, E would be the small difference of terms the size of the surface.
-// A collapse sums its two ends' quadrics in a frame at the new vertex; a removal gives the
-// vertex's to the corners of the new triangle that passes it, by its barycentric weights there,
-// each moved into the receiving corner's frame.
+// symmetric 3x3), b (3), c, W, then per component
+// G (3) and D, with
+//     E(x, s) = x.A.x + 2 b.x + c + W s.s - 2 sum_j s_j (G_j.x + D_j).
+// A collapse adds its two ends' quadrics; a removal gives the vertex's to the corners of the new
+// triangle that passes it, by its barycentric weights there.
 #pragma once
 
 #include "weights.h"
@@ -61,12 +57,9 @@ struct SegmentSlope {
 struct ErrorQuadrics {
     // A (6), b (3), c and W, which every data component shares; its G (3) and D follow.
     static constexpr size_t kSharedTerms = 11;
-    size_t components = 0;          // m
-    size_t frame = kSharedTerms;    // where the frame (o, sigma) starts: kSharedTerms + 4m
-    size_t size = kSharedTerms + 3; // numbers per vertex: the terms, then the frame
-    // Floats: in its own frame a quadric's terms are the size of the errors they sum.
-    using Term = float;
-    Array<Term> values;
+    size_t components = 0;      // m
+    size_t size = kSharedTerms; // numbers per vertex
+    Array<double> values;
     // The input surface's area (normalised units: diagonals squared).
     double area = 0;
     // Normalisation: x' = (x - centre) * inv_diagonal, s'_j = (f[offset_j] - low_j) * inv_range_j.
@@ -86,13 +79,10 @@ struct ErrorQuadrics {
     void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry, double data,
                size_t capacity, Parallel& parallel);
 
-    Term* of(uint32_t v) { return &values[size_t(v) * size]; }
-    const Term* of(uint32_t v) const { return &values[size_t(v) * size]; }
-    // q(to) += scale * q(from), moved into to's frame.
+    double* of(uint32_t v) { return &values[size_t(v) * size]; }
+    const double* of(uint32_t v) const { return &values[size_t(v) * size]; }
+    // q(to) += scale * q(from).
     void add(uint32_t to, uint32_t from, double scale);
-    // A collapse's sum: q(a) + q(b) into a's slot, in a frame at the new vertex (its raw
-    // position x and data record f), where its errors will be read.
-    void merge(uint32_t a, uint32_t b, const Vec3& x, const float* f);
 
     // The summed error of the quadrics of vertices v and w (an edge's two ends) along the segment
     // from position xa with data fa to xb with data fb (raw positions and data records of the
@@ -135,8 +125,8 @@ struct ErrorQuadrics {
                     size_t count) const;
     // Errors of v's quadric closer than this are equal (rounding).
     double noise(uint32_t v) const {
-        const Term* q = of(v);
-        return 1e-12 * (double(q[0]) + q[3] + q[5] + q[10] + std::abs(double(q[9])));
+        const double* q = of(v);
+        return 1e-12 * (q[0] + q[3] + q[5] + q[10] + std::abs(q[9]));
     }
 };
 

@@ -1,11 +1,9 @@
 // ErrorQuadrics (simplify/src/error_quadric.h, internal): the sideways step of the least-error
 // placement (free, or at a held height) and the error change it reports, and the error at one
 // point, against the quadrics evaluated along a segment; the least error over points, against
-// each point alone; the data of least error at a point, against the closed form; a quadric added
-// into another's frame and two merged into a new vertex's, against the closed form, where a
-// whole-surface frame in floats fails.
-// The quadrics are built by hand from planes and a linear field, so that
-// E(x, s) = sum (n.x + e)^2 + w (s - g.x - d)^2 is known in closed form.
+// each point alone; the data of least error at a point, against the closed form. The quadrics are
+// built by hand from planes and a linear field, so that E(x, s) = sum (n.x + e)^2 + w (s - g.x -
+// d)^2 is known in closed form.
 #include "error_quadric.h"
 #include "working_mesh.h"
 
@@ -13,7 +11,6 @@
 
 #include <array>
 #include <cmath>
-#include <vector>
 
 namespace ddsimp::detail {
 namespace {
@@ -30,58 +27,24 @@ Vec3 unit(Vec3 v) {
     return scale(v, 1 / norm(v));
 }
 
-// Quadrics of `count` vertices with one data component, in normalised units (centre 0, diagonal
-// 1, data range 1), every frame at 0 until set.
-ErrorQuadrics quadrics_of(uint32_t count) {
+// Two vertices' quadrics: curved geometry (planes of different directions) and one data component,
+// in normalised units (centre 0, diagonal 1, data range 1).
+ErrorQuadrics two_quadrics() {
     ErrorQuadrics q;
     q.components = 1;
-    q.frame = ErrorQuadrics::kSharedTerms + 4;
-    q.size = q.frame + 3 + 1;
-    q.values.assign(count * q.size, 0.0f);
+    q.size = ErrorQuadrics::kSharedTerms + 4;
+    q.values.assign(2 * q.size, 0.0);
     q.inv_diagonal = 1;
     q.offset = {0};
     q.low = {0};
     q.inv_range = {1};
     q.continuous = {1};
-    return q;
-}
-
-// A vertex's quadric: the planes n.x + e (unit n, weights w) and the fields s = g.x + d (weights
-// w), as seen from its frame at position o with data sigma: the terms are made in doubles there,
-// then stored.
-struct Plane {
-    Vec3 n;
-    double e, w;
-};
-void set_quadric(ErrorQuadrics& q, uint32_t v, const Vec3& o, double sigma,
-                 const std::vector<Plane>& planes, const std::vector<Plane>& fields) {
-    std::array<double, ErrorQuadrics::kSharedTerms + 4> terms{};
-    for (const Plane& p : planes) add_plane(terms.data(), p.n, p.e + dot(p.n, o), p.w);
-    for (const Plane& f : fields) add_field(terms.data(), f.n, f.e + dot(f.n, o) - sigma, f.w);
-    for (size_t i = 0; i < terms.size(); ++i) q.of(v)[i] = float(terms[i]);
-    for (int k = 0; k < 3; ++k) q.of(v)[q.frame + k] = float(o[k]);
-    q.of(v)[q.frame + 3] = float(sigma);
-}
-
-// The same error in closed form, in doubles: sum w (n.x + e)^2 + sum w (s - g.x - d)^2.
-double closed_form(const Vec3& x, double s, const std::vector<Plane>& planes,
-                   const std::vector<Plane>& fields) {
-    double e = 0;
-    for (const Plane& p : planes) e += p.w * (dot(p.n, x) + p.e) * (dot(p.n, x) + p.e);
-    for (const Plane& f : fields) e += f.w * (s - dot(f.n, x) - f.e) * (s - dot(f.n, x) - f.e);
-    return e;
-}
-
-// Two vertices' quadrics: curved geometry (planes of different directions) and one data component,
-// each in a frame of its own (near the segment the tests evaluate along).
-ErrorQuadrics two_quadrics() {
-    ErrorQuadrics q = quadrics_of(2);
-    set_quadric(q, 0, {0.1, -0.05, 0.02}, 0.25,
-                {{unit({0.1, 0.2, 1.0}), -0.05, 0.7}, {unit({0.9, -0.1, 0.4}), 0.02, 0.3}},
-                {{{0.5, -0.3, 0.2}, 0.1, 0.4}});
-    set_quadric(q, 1, {0.16, 0.03, -0.01}, 0.4,
-                {{unit({-0.2, 0.1, 1.0}), -0.04, 0.5}, {unit({0.0, 1.0, 0.3}), 0.01, 0.6}},
-                {{{0.4, -0.2, 0.1}, 0.12, 0.5}});
+    add_plane(q.of(0), unit({0.1, 0.2, 1.0}), -0.05, 0.7);
+    add_plane(q.of(0), unit({0.9, -0.1, 0.4}), 0.02, 0.3);
+    add_field(q.of(0), {0.5, -0.3, 0.2}, 0.1, 0.4);
+    add_plane(q.of(1), unit({-0.2, 0.1, 1.0}), -0.04, 0.5);
+    add_plane(q.of(1), unit({0.0, 1.0, 0.3}), 0.01, 0.6);
+    add_field(q.of(1), {0.4, -0.2, 0.1}, 0.12, 0.5);
     return q;
 }
 
@@ -186,57 +149,6 @@ TEST(ErrorQuadrics, LeastAtPointsIsTheLeastOfEachPointAlone) {
                 EXPECT_EQ(q.least_at(v, mesh, ring + first, count), least)
                     << "quadric " << v << ", points " << first << ".." << first + count;
             }
-}
-
-// Two vertices far from the surface's centre, each near its own planes and field: their errors
-// near them are some 1e-8 of the terms a whole-surface frame would store, where floats would leave
-// nothing of them.
-struct NearTheirPlanes {
-    Vec3 o0{0.41, -0.32, 0.27}, o1{0.41004, -0.32003, 0.27002};
-    Vec3 n1 = unit({0.1, 0.2, 1.0}), n2 = unit({0.9, -0.1, 0.4}), n3 = unit({-0.2, 0.1, 1});
-    Vec3 g0{0.5, -0.3, 0.2}, g1{0.4, -0.2, 0.1};
-    std::vector<Plane> planes0 = {{n1, -dot(n1, o0) + 2e-5, 0.7}, {n2, -dot(n2, o0) - 1e-5, 0.3}},
-                       fields0 = {{g0, 0.6 - dot(g0, o0) + 1e-5, 0.4}},
-                       planes1 = {{n3, -dot(n3, o1) + 3e-5, 0.5}},
-                       fields1 = {{g1, 0.6 - dot(g1, o1) - 2e-5, 0.5}};
-    ErrorQuadrics q = quadrics_of(2);
-    NearTheirPlanes() {
-        set_quadric(q, 0, o0, 0.6, planes0, fields0);
-        set_quadric(q, 1, o1, 0.6, planes1, fields1);
-    }
-    // Vertex v's error (at() sums two vertices: v twice) against the closed form of
-    // `scale0` times vertex 0's planes and field plus `scale1` times vertex 1's, near `near`.
-    void expect_closed_form(uint32_t v, const Vec3& near, double scale0, double scale1) const {
-        for (const Vec3 d : {Vec3{0, 0, 0}, Vec3{1e-5, -2e-5, 5e-6}, Vec3{-3e-4, 1e-4, 2e-4}})
-            for (const float s : {0.6f, 0.60002f}) {
-                const Vec3 x = add(near, d);
-                const double exact = scale0 * closed_form(x, s, planes0, fields0) +
-                                     scale1 * closed_form(x, s, planes1, fields1);
-                const float f[1] = {s};
-                EXPECT_NEAR(q.at(v, v, x, f, f, 0.0) / 2, exact, 1e-3 * exact)
-                    << "at " << d[0] << ", " << d[1] << ", " << d[2] << ", data " << s;
-            }
-    }
-};
-
-// add() moves the giving quadric into the receiving one's frame: afterwards the receiver's error
-// is its own plus the scaled giver's.
-TEST(ErrorQuadrics, AddMovesAQuadricIntoTheReceivingFrame) {
-    NearTheirPlanes two;
-    two.q.add(1, 0, 0.5);
-    two.expect_closed_form(1, two.o1, 0.5, 1);
-}
-
-// merge() (a collapse) sums both quadrics into the first one's slot, in a frame at the new vertex:
-// its position and data.
-TEST(ErrorQuadrics, MergeSumsBothInAFrameAtTheNewVertex) {
-    NearTheirPlanes two;
-    const Vec3 x = scale(add(two.o0, two.o1), 0.5);
-    const float f[1] = {0.60001f};
-    two.q.merge(0, 1, x, f);
-    for (int k = 0; k < 3; ++k) EXPECT_EQ(two.q.of(0)[two.q.frame + k], float(x[k]));
-    EXPECT_EQ(two.q.of(0)[two.q.frame + 3], f[0]);
-    two.expect_closed_form(0, x, 1, 1);
 }
 
 } // namespace
