@@ -4,6 +4,7 @@
 #include "simplifier.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 namespace ddsimp {
@@ -331,7 +332,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     }
 }
 
-void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
+Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     WorkingMesh& m = mesh_;
     const uint32_t h = plan.halfedge, ht = m.twin[h];
     const uint32_t a = m.origin[h], b = m.dest(h);
@@ -397,8 +398,20 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     m.kind[n] = VertexKind::Free;
     if (!m.locked.empty()) m.locked[n] = m.locked[a] | m.locked[b]; // placed on the locked end
     m.reset_out(n, leaving[0]);
-    m.reset_out(x, entry_x);
-    if (y != kNone) m.reset_out(y, entry_y);
+    // An apex that another collapse of the pass shares waits for them all (refresh_rings): its
+    // out[] is set again by the collapse that removed it.
+    Apexes deferred{n, {kNone, kNone}, {kNone, kNone}, false};
+    const uint32_t apexes[2] = {x, y}, entries[2] = {entry_x, entry_y};
+    for (int k = 0; k < 2; ++k) {
+        const uint32_t v = apexes[k];
+        if (v == kNone) continue;
+        if (!shared(v)) {
+            m.reset_out(v, entries[k]);
+            continue;
+        }
+        deferred.apex[k] = v;
+        if (m.out[v] / 3 == t0 || m.out[v] / 3 == t1) deferred.entry[k] = entries[k];
+    }
 
     record_.collapse_[2 * index] = id_[a];
     record_.collapse_[2 * index + 1] = id_[b];
@@ -406,15 +419,58 @@ void Simplifier::apply_collapse(const CollapsePlan& plan, size_t index) {
     std::copy_n(m.position_of(n), 3, made);
     std::copy_n(m.data_of(n), m.stride, made + 3);
 
-    // n, then its apexes (which lost a neighbour and may have merged line flags), then the rest
-    // of its ring.
-    uint32_t changed[2 * kMaxValence + 3];
-    changed[0] = n;
-    const size_t k = m.ring(n, changed + 1, 2 * kMaxValence + 2);
-    size_t kept_from = 1;
-    for (size_t i = 1; i <= k; ++i)
-        if (changed[i] == x || changed[i] == y) std::swap(changed[i], changed[kept_from++]);
-    refresh_around(changed, k + 1, kept_from);
+    // n, its apexes (which lost a neighbour and may have merged line flags) and the rest of its
+    // ring: each one now unless another collapse of the pass shares it.
+    epoch_[n] = pass_;
+    refresh_changed(n, true, true);
+    uint32_t ring[2 * kMaxValence + 2];
+    const size_t k = m.ring(n, ring, 2 * kMaxValence + 2);
+    for (size_t i = 0; i < k; ++i) {
+        const uint32_t v = ring[i];
+        std::atomic_ref<uint32_t>(epoch_[v]).store(pass_, std::memory_order_relaxed);
+        if (v == x || v == y) {
+            if (!shared(v)) refresh_changed(v, false, true);
+        } else if (ring_refreshes(v)) {
+            if (shared(v))
+                deferred.ring = true;
+            else
+                refresh_changed(v, false, false);
+        }
+    }
+    return deferred;
+}
+
+void Simplifier::refresh_rings(const Apexes* collapses, size_t count) {
+    // Each shared apex's out[], where its collapse removed it (one collapse each), then each
+    // shared apex's record and then those of the rest of the rings: every vertex once, by the
+    // collapse that claims it, from the surface after them all.
+    parallel_.for_each(count, [&](size_t j) {
+        for (int k = 0; k < 2; ++k)
+            if (collapses[j].entry[k] != kNone)
+                mesh_.reset_out(collapses[j].apex[k], collapses[j].entry[k]);
+    });
+    parallel_.for_range(count, [&](size_t begin, size_t end) {
+        for (size_t j = begin; j < end; ++j) {
+            constexpr size_t kAhead = 4; // the apexes are scattered: their fans fetched ahead
+            if (j + 2 * kAhead < end)
+                for (uint32_t v : collapses[j + 2 * kAhead].apex)
+                    if (v != kNone)
+                        __builtin_prefetch(&mesh_.out[v]), __builtin_prefetch(&busy_[v]);
+            if (j + kAhead < end)
+                for (uint32_t v : collapses[j + kAhead].apex)
+                    if (v != kNone) __builtin_prefetch(&mesh_.twin[mesh_.out[v]]);
+            for (uint32_t v : collapses[j].apex)
+                if (v != kNone && claim_shared(v)) refresh_changed(v, false, true);
+        }
+    });
+    parallel_.for_each(count, [&](size_t j) {
+        if (!collapses[j].ring) return;
+        uint32_t ring[2 * kMaxValence + 2];
+        const size_t k = mesh_.ring(collapses[j].made, ring, 2 * kMaxValence + 2);
+        for (size_t i = 0; i < k; ++i)
+            if (claim_shared(ring[i]) && ring_refreshes(ring[i]))
+                refresh_changed(ring[i], false, false);
+    });
 }
 
 Simplifier::Check Simplifier::check_collapse(uint32_t h, float weight, CollapsePlan& plan) {

@@ -1,9 +1,10 @@
 // A pass's selection: among the pass's candidates, in rank order, every one whose neighbourhood
-// no candidate selected before it touches (an independent set, the same for any thread count).
-// The walk goes through the candidates one by one and stops at the first vertex that is not
-// free. It is bound by memory latency, so it fetches the candidates ahead, and a second round
-// walks only the candidates that a refused or waiting one blocked: one that a taken operation
-// blocked cannot be selected in this pass.
+// no candidate selected before it touches (an independent set, the same for any thread count;
+// edge collapses may share ring vertices, see ring_shared_). The walk goes through the
+// candidates one by one and stops at the first vertex that is not free. It is bound by memory
+// latency, so it fetches the candidates ahead, and a second round walks only the candidates that a
+// refused or waiting one blocked: one that a taken operation blocked cannot be selected in this
+// pass.
 #include "simplifier.h"
 
 namespace ddsimp {
@@ -63,7 +64,7 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
     // Held by an operation taken in an earlier round of this pass (their checks are done).
     auto taken = [&](const Hold& hold) {
         return hold.stamp >= pass_stamp && hold.stamp != round_stamp &&
-               checked_[hold.holder] == Check::Taken;
+               checked_[hold.holder & ~kShared] == Check::Taken;
     };
     struct Over { // the checks beside the walk learn that it is over, however it ends
         Simplifier& s;
@@ -108,22 +109,43 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
             const Hold& far = busy_[ends.b];
             if (taken(far)) continue;
             if (far.stamp == round_stamp) {
-                blocked_.push_back(rank), blocked_by_.push_back(far.holder);
+                blocked_.push_back(rank), blocked_by_.push_back(far.holder & ~kShared);
                 continue;
             }
         }
         size_t n = 0;
         uint32_t blocker = kNone;
+        // An edge's ring vertices may be shared (see ring_shared_): only its ends are looked at.
+        auto ring_vertex = [&](uint32_t v) { return collapse && v != ends.a && v != ends.b; };
         const bool free = walk_neighbourhood(ends, [&](uint32_t v) {
-            const Hold& hold = busy_[v];
-            if (n == kMaxNeighbourhood || taken(hold)) return false;
-            if (hold.stamp == round_stamp) return blocker = hold.holder, false;
+            if (n == kMaxNeighbourhood) return false;
+            if (!ring_vertex(v)) {
+                const Hold& hold = busy_[v];
+                if (taken(hold)) return false;
+                if (hold.stamp == round_stamp) return blocker = hold.holder & ~kShared, false;
+            }
             near[n++] = v;
             return true;
         });
         if (free) {
             const uint32_t holder = uint32_t(first + selected_.size());
-            for (size_t i = 0; i < n; ++i) busy_[near[i]] = {round_stamp, holder};
+            for (size_t i = 0; i < n; ++i) {
+                Hold& hold = busy_[near[i]];
+                if (ring_vertex(near[i])) {
+                    if (taken(hold)) { // next to a taken operation: it stays so
+                        hold.holder |= kShared;
+                        continue;
+                    }
+                    if (hold.stamp == round_stamp) {
+                        if ((hold.holder & ~kShared) != holder) {
+                            hold.holder |= kShared;
+                            ring_shared_.push_back({near[i], holder});
+                        }
+                        continue;
+                    }
+                }
+                hold = {round_stamp, holder};
+            }
             selected_.push_back(rank);
             publish_selected(false);
         } else if (blocker != kNone) {
@@ -132,6 +154,14 @@ bool Simplifier::select(uint32_t pass_stamp, uint32_t round_stamp, size_t first)
         }
     }
     return true;
+}
+
+void Simplifier::hold_for_taken() {
+    for (const auto& [v, holder] : ring_shared_)
+        if (checked_[holder] == Check::Taken &&
+            checked_[busy_[v].holder & ~kShared] != Check::Taken)
+            busy_[v].holder = holder | kShared;
+    ring_shared_.clear();
 }
 
 void Simplifier::pend_blocked() {

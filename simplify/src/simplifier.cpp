@@ -177,30 +177,40 @@ void Simplifier::refresh_vertex(uint32_t v) {
 // recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
 // weight changed). changed[0] is a collapse's new vertex.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
-    const uint32_t epoch = pass_;
+    for (size_t i = 0; i < count; ++i) {
+        epoch_[changed[i]] = pass_;
+        refresh_changed(changed[i], i == 0, i < kept_from);
+    }
+}
+
+bool Simplifier::claim_shared(uint32_t v) {
+    return std::atomic_ref<uint32_t>(busy_[v].holder)
+               .fetch_and(~kShared, std::memory_order_relaxed) &
+           kShared;
+}
+
+bool Simplifier::ring_refreshes(uint32_t v) const {
+    return !quadric_terms_ || options_.strategy != Strategy::EdgeCollapse ||
+           options_.placement == Placement::VolumePreserving || mesh_.kind[v] != VertexKind::Free;
+}
+
+void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
     // With the error quadrics, an edge's key reads only its ends' quadrics, positions, data and
     // kinds (and, for the volume-preserving point, their stars). A collapse changes these for the
-    // new vertex, changed[0], and at most the kinds of the others: their edges keep their keys
-    // unless their kind changed. A kind can change only at the apexes (they lost a neighbour and
-    // may have merged line flags), changed[1..kept_from), and at ring vertices on a line; a Free
-    // vertex from kept_from on keeps its kind and valence (and weight_ is not used).
+    // new vertex and at most the kinds of the others: their edges keep their keys unless their
+    // kind changed. A kind can change only at the apexes (they lost a neighbour and may have
+    // merged line flags) and at ring vertices on a line; a Free vertex of the rest of the ring
+    // keeps its kind and valence (and weight_ is not used).
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
     const bool collapse_quadrics = quadric_terms_ && collapse;
     const bool star_keys = options_.placement == Placement::VolumePreserving;
-    for (size_t i = 0; i < count; ++i) {
-        const uint32_t v = changed[i];
-        epoch_[v] = epoch;
-        const VertexKind kind = mesh_.kind[v];
-        if (!collapse_quadrics || i < kept_from || kind != VertexKind::Free) refresh_vertex(v);
-        if (!collapse) {
-            mark_stale(v);
-            continue;
-        }
-        // The edges at a ring vertex that kept its kind, valence and line read nothing that
-        // changed (a refused one stays stale anyway, see stale_): they keep their places.
-        const bool rekey = !collapse_quadrics || i == 0 || mesh_.kind[v] != kind || star_keys;
-        if (rekey || i < kept_from || kind != VertexKind::Free) mark_edges_at(v, rekey);
-    }
+    const VertexKind kind = mesh_.kind[v];
+    if (!collapse_quadrics || apex || kind != VertexKind::Free) refresh_vertex(v);
+    if (!collapse) return mark_stale(v);
+    // The edges at a ring vertex that kept its kind, valence and line read nothing that changed
+    // (a refused one stays stale anyway, see stale_): they keep their places.
+    const bool rekey = !collapse_quadrics || made || mesh_.kind[v] != kind || star_keys;
+    if (rekey || apex || kind != VertexKind::Free) mark_edges_at(v, rekey);
 }
 
 void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
@@ -352,6 +362,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
                          [&](bool calling) { check_published(first, claimed, stopped, calling); });
         if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
+        hold_for_taken();
         bool freed = false;
         for (size_t i = 0; i < selected_.size(); ++i) {
             if (checked_[first + i] != Check::Taken) {
@@ -395,13 +406,19 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     } else {
         grow(record_.writes_, writes);
     }
+    if (collapse && apexes_.size() < count) apexes_.resize(count);
     const size_t applied = in_blocks(count, [&](size_t begin, size_t end) {
         for (size_t j = begin; j < end; ++j) {
-            if (collapse)
+            if (collapse) {
                 prefetch_ahead(j, end, [&](size_t k) { return plans_[taken_[k].second].halfedge; });
+                if (j + 2 < end) { // whether the apexes are shared (prefetch_ahead fetched h)
+                    const uint32_t h = plans_[taken_[j + 2].second].halfedge;
+                    __builtin_prefetch(&busy_[mesh_.origin[detail::prev(h)]]);
+                }
+            }
             const uint32_t t = taken_[j].second;
             if (collapse) {
-                apply_collapse(plans_[t], operations_ + j);
+                apexes_[j] = apply_collapse(plans_[t], operations_ + j);
             } else {
                 Removal removal;
                 removals_.get(t, removal);
@@ -409,6 +426,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
             }
         }
     });
+    if (collapse) refresh_rings(apexes_.data(), applied);
     // Cancelled in the middle: the record keeps the operations applied so far.
     const size_t recorded = record_.triangles_after_.size() - count;
     if (applied < count) {

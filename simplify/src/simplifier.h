@@ -157,6 +157,14 @@ private:
     // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
     // ends and line flags (all but the apexes); vertex removal passes count.
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
+    // One vertex of refresh_around: `made` a collapse's new vertex, `apex` one whose kind may
+    // have changed (all but the rest of a collapse's ring). Sets neither epoch_ nor out[].
+    void refresh_changed(uint32_t v, bool made, bool apex);
+    // Whether refresh_changed(v, false, false) does anything.
+    bool ring_refreshes(uint32_t v) const;
+    // Takes kShared off v's hold; whether it was there (a vertex shared by collapses on several
+    // threads is refreshed once, by the one that takes it).
+    bool claim_shared(uint32_t v);
     // Reserves the record's per-operation arrays for the most operations a run to `target` takes.
     void reserve_record(size_t target);
     // rank.cpp: the next pass: the number of candidates it selects from into `share`; ranked_
@@ -199,7 +207,8 @@ private:
     detail::Array<Ends> share_ends_;
     // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
     // in rank order. A candidate whose neighbourhood no candidate selected before it in this
-    // round holds goes into selected_ and holds it (busy_ stamped round_stamp, its holder index
+    // round holds (for an edge: whose ends none holds, see ring_shared_) goes into selected_ and
+    // holds it (busy_ stamped round_stamp, its holder index
     // `first` + its index in selected_); one that such a candidate blocks goes into blocked_,
     // with the holder index of the one that blocks it in blocked_by_; one next to an operation
     // taken in an earlier round of this pass (stamped from pass_stamp on, its check Taken), or
@@ -207,6 +216,19 @@ private:
     // Each selected one gets its plan's place at once, and every kCheckBatch of them are
     // published to the checks running beside the walk (see run_pass).
     bool select(uint32_t pass_stamp, uint32_t round_stamp, size_t first);
+    // Edge collapse: two selected edges may share ring vertices, never an end in the other's
+    // neighbourhood: each collapse then changes only its own stars, and a shared vertex only
+    // loses a neighbour or gets a new one from each. A shared vertex keeps the hold of the first
+    // edge selected, with kShared in its holder (such a vertex's out[] and record are set after
+    // the pass's collapses, see refresh_rings); the others are listed here (vertex, holder), and
+    // after the round's checks (hold_for_taken) a taken one's hold replaces one that was not
+    // taken, so that the vertex stays held for the pass.
+    static constexpr uint32_t kShared = 0x80000000u;
+    std::vector<std::pair<uint32_t, uint32_t>> ring_shared_;
+    void hold_for_taken();
+    bool shared(uint32_t v) const {
+        return options_.strategy == Strategy::EdgeCollapse && (busy_[v].holder & kShared);
+    }
     // After the walk selected another one (over: after the walk ended): its plan's place, and
     // the count of selected ones for the checks, with kWalkOver once the walk is over.
     void publish_selected(bool over);
@@ -280,9 +302,22 @@ private:
                               const detail::Vec3& axis, double length, const detail::Vec3& d) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
-    // Applies a checked collapse as the record's operation `index` (see run_pass: the
-    // operations applied together touch disjoint neighbourhoods).
-    void apply_collapse(const CollapsePlan& plan, size_t index);
+    // What the rest of a pass needs of an applied collapse: the new vertex, the apexes of the
+    // edge (kNone for none) and, for an apex whose out[] the collapse removed, the half-edge from
+    // which to set it again (else kNone).
+    struct Apexes {
+        uint32_t made;
+        uint32_t apex[2];  // the shared apexes (else kNone)
+        uint32_t entry[2]; // the half-edge from which a shared apex's out[] is set, or kNone
+        bool ring;         // whether the rest of the ring holds a shared vertex to refresh
+    };
+    // Applies a checked collapse as the record's operation `index`: its own stars and the new
+    // vertex's record (see run_pass: the operations applied together touch disjoint stars). The
+    // apexes and the rest of the ring wait for refresh_rings.
+    Apexes apply_collapse(const CollapsePlan& plan, size_t index);
+    // After a pass's collapses: their apexes' out[] and their rings' records (see select).
+    void refresh_rings(const Apexes* collapses, size_t count);
+    std::vector<Apexes> apexes_;
     // What checking a selected candidate on the untouched surface found.
     enum class Check : uint8_t { Refused, Waits, Taken };
     // `weight`: the candidate's key weight.
