@@ -175,7 +175,7 @@ void Simplifier::refresh_vertex(uint32_t v) {
 
 // After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are
 // recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
-// weight changed). changed[0] is a collapse's new vertex.
+// weight changed). A collapse does the same for its new vertex and ring in apply_collapse.
 void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
     for (size_t i = 0; i < count; ++i) {
         epoch_[changed[i]] = pass_;

@@ -154,8 +154,8 @@ private:
     // with its data if that is lighter, where a fan from it puts v (infinite for a ring too
     // large).
     double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
-    // changed[kept_from..count): vertices of a collapse's ring whose edges kept their other
-    // ends and line flags (all but the apexes); vertex removal passes count.
+    // changed[kept_from..count): vertices whose edges kept their other ends and line flags (a
+    // collapse's ring but its apexes); vertex removal passes its ring and count.
     void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
     // One vertex of refresh_around: `made` a collapse's new vertex, `apex` one whose kind may
     // have changed (all but the rest of a collapse's ring). Sets neither epoch_ nor out[].
@@ -208,8 +208,8 @@ private:
     // selection.cpp: one round of a pass's selection, a walk through pending_ (ranks, ascending)
     // in rank order. A candidate whose neighbourhood no candidate selected before it in this
     // round holds (for an edge: whose ends none holds, see ring_shared_) goes into selected_ and
-    // holds it (busy_ stamped round_stamp, its holder index
-    // `first` + its index in selected_); one that such a candidate blocks goes into blocked_,
+    // holds it (busy_ stamped round_stamp, its holder index `first` + its index in selected_);
+    // one that such a candidate blocks goes into blocked_,
     // with the holder index of the one that blocks it in blocked_by_; one next to an operation
     // taken in an earlier round of this pass (stamped from pass_stamp on, its check Taken), or
     // larger than kMaxNeighbourhood, cannot be selected in this pass. False: cancelled.
@@ -302,18 +302,18 @@ private:
                               const detail::Vec3& axis, double length, const detail::Vec3& d) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
-    // What the rest of a pass needs of an applied collapse: the new vertex, the apexes of the
-    // edge (kNone for none) and, for an apex whose out[] the collapse removed, the half-edge from
-    // which to set it again (else kNone).
+    // What the rest of a pass needs of an applied collapse: the new vertex, the edge's apexes
+    // that another collapse shares and, for such an apex whose out[] the collapse removed, the
+    // half-edge from which to set it again.
     struct Apexes {
         uint32_t made;
         uint32_t apex[2];  // the shared apexes (else kNone)
         uint32_t entry[2]; // the half-edge from which a shared apex's out[] is set, or kNone
         bool ring;         // whether the rest of the ring holds a shared vertex to refresh
     };
-    // Applies a checked collapse as the record's operation `index`: its own stars and the new
-    // vertex's record (see run_pass: the operations applied together touch disjoint stars). The
-    // apexes and the rest of the ring wait for refresh_rings.
+    // Applies a checked collapse as the record's operation `index`: its own stars, the new
+    // vertex's record and those of its ring (see run_pass: the operations applied together
+    // touch disjoint stars); the ring vertices another collapse shares wait for refresh_rings.
     Apexes apply_collapse(const CollapsePlan& plan, size_t index);
     // After a pass's collapses: their apexes' out[] and their rings' records (see select).
     void refresh_rings(const Apexes* collapses, size_t count);
