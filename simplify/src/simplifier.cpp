@@ -173,13 +173,13 @@ void Simplifier::refresh_vertex(uint32_t v) {
     }
 }
 
-// After an operation: `changed` vertices have new neighbourhoods. Their kinds and weights are
-// recomputed at once (a weight reads only the vertex's star and its neighbours, so no other
-// weight changed). A collapse does the same for its new vertex and ring in apply_collapse.
-void Simplifier::refresh_around(const uint32_t* changed, size_t count, size_t kept_from) {
+// After a removal: the `changed` vertices (its ring) have new neighbourhoods. Their kinds and
+// weights are recomputed at once (a weight reads only the vertex's star and its neighbours, so no
+// other weight changed). A collapse does the same for its new vertex and ring in apply_collapse.
+void Simplifier::refresh_around(const uint32_t* changed, size_t count) {
     for (size_t i = 0; i < count; ++i) {
         epoch_[changed[i]] = pass_;
-        refresh_changed(changed[i], i == 0, i < kept_from);
+        refresh_changed(changed[i], false, true);
     }
 }
 

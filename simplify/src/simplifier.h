@@ -154,9 +154,8 @@ private:
     // with its data if that is lighter, where a fan from it puts v (infinite for a ring too
     // large).
     double removal_error(uint32_t v, const uint32_t* ring, size_t count) const;
-    // changed[kept_from..count): vertices whose edges kept their other ends and line flags (a
-    // collapse's ring but its apexes); vertex removal passes its ring and count.
-    void refresh_around(const uint32_t* changed, size_t count, size_t kept_from);
+    // Vertex removal: refreshes the removed vertex's ring (see refresh_changed).
+    void refresh_around(const uint32_t* changed, size_t count);
     // One vertex of refresh_around: `made` a collapse's new vertex, `apex` one whose kind may
     // have changed (all but the rest of a collapse's ring). Sets neither epoch_ nor out[].
     void refresh_changed(uint32_t v, bool made, bool apex);

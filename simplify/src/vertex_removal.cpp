@@ -578,7 +578,7 @@ void Simplifier::apply_removal(const Removal& plan, size_t index, size_t write_a
     if (quadric_terms_)
         for (size_t k = 0; k < plan.cover.count; ++k)
             quadrics_.add(plan.ring[plan.cover.corner[k]], plan.vertex, plan.cover.weight[k]);
-    refresh_around(plan.ring, n, n);
+    refresh_around(plan.ring, n);
 }
 
 Simplifier::Check Simplifier::check_removal(uint32_t v, size_t slot) {
