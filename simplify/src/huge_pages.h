@@ -59,6 +59,43 @@ private:
 // A vector whose storage goes to huge pages once it is large (see above).
 template <class T> using Array = std::vector<T, HugePageAllocator<T>>;
 
+// Gives the whole pages within [begin, end) back to the system: they read as zeros when written
+// again, so only what is in use stays resident.
+inline void release_pages(const void* begin, const void* end) {
+    constexpr uintptr_t kPage = 4096;
+    const uintptr_t first = (reinterpret_cast<uintptr_t>(begin) + kPage - 1) & ~(kPage - 1);
+    const uintptr_t last = reinterpret_cast<uintptr_t>(end) & ~(kPage - 1);
+    if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
+}
+
+// The pages past an array's size given back: an array that shrinks and later grows in place keeps
+// only the pages it uses resident.
+template <class T> void release_unused(Array<T>& array) {
+    release_pages(array.data() + array.size(), array.data() + array.capacity());
+}
+
+// Empties a scratch array that keeps its room for the next use, its pages given back meanwhile.
+template <class T> void clear_and_release(Array<T>& array) {
+    array.clear();
+    release_unused(array);
+}
+
+// When to give back the pages of scratch arrays whose use shrinks over a run: once a use has
+// fallen below half of the use at the last release. The pages written again after releases are
+// then at most about twice the first use, where releasing after every use would fault them in
+// again each time.
+class HalvingRelease {
+public:
+    bool due(size_t used) {
+        if (2 * used >= last_) return false;
+        last_ = used;
+        return true;
+    }
+
+private:
+    size_t last_ = SIZE_MAX;
+};
+
 // array = n copies of value, its fresh pages first written on the threads: the first write to a
 // page is a fault in which the kernel clears it, serial work for one thread otherwise.
 template <class T>

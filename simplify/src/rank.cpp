@@ -224,6 +224,15 @@ bool Simplifier::rank_candidates(size_t& share) {
         audit.rankings.fetch_add(1, std::memory_order_relaxed);
         if (!order_is_afresh()) audit.mismatches.fetch_add(1, std::memory_order_relaxed);
     }
+    // The candidates grow fewer as the surface coarsens: the order keeps its room (a merge never
+    // moves it) but not the pages past its end. So do the rankings: their scratch keeps its
+    // room for the next one, its pages given back once they are half as many.
+    detail::release_unused(ranked_);
+    if (scratch_release_.due(count)) {
+        using detail::clear_and_release;
+        clear_and_release(fresh_status_), clear_and_release(fresh_);
+        clear_and_release(stale_ids_), clear_and_release(scratch_);
+    }
     share = ranked_.empty()
                 ? 0
                 : std::max<size_t>(1, size_t(std::ceil(pass_share() * double(ranked_.size()))));

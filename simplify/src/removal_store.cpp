@@ -41,6 +41,12 @@ void Simplifier::RemovalStore::reset(size_t slots) {
     capacity_ = needed;
 }
 
+void Simplifier::RemovalStore::release() {
+    detail::release_pages(words_, words_ + used_.load(std::memory_order_relaxed));
+    at_.clear();
+    used_.store(0, std::memory_order_relaxed);
+}
+
 void Simplifier::RemovalStore::put(size_t slot, const Removal& r) {
     const size_t n = r.ring_size, fan = r.slots();
     const size_t begin = used_.fetch_add(words_for(n, r.new_count), std::memory_order_relaxed);

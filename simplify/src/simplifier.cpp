@@ -427,6 +427,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         }
     });
     if (collapse) refresh_rings(apexes_.data(), applied);
+    if (pass_release_.due(share)) release_pass_arrays();
     // Cancelled in the middle: the record keeps the operations applied so far.
     const size_t recorded = record_.triangles_after_.size() - count;
     if (applied < count) {
@@ -446,6 +447,14 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     if (live <= target) return stop = StopReason::TargetReached, true;
     if (!checkpoint()) return stop = StopReason::Cancelled, true;
     return false;
+}
+
+void Simplifier::release_pass_arrays() {
+    using detail::clear_and_release;
+    clear_and_release(plans_), clear_and_release(checked_), clear_and_release(taken_);
+    clear_and_release(pending_), clear_and_release(selected_), clear_and_release(blocked_);
+    clear_and_release(blocked_by_), clear_and_release(apexes_), clear_and_release(share_ends_);
+    removals_.release();
 }
 
 void Simplifier::reserve_record(size_t target) {

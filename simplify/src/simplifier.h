@@ -95,6 +95,8 @@ private:
         // Empty, with room for `slots` slots and each slot's largest removal (reserved, not
         // written, until a check stores one).
         void reset(size_t slots);
+        // Empty, the pages of the removals stored given back (the room stays reserved).
+        void release();
         void add_slot() { at_.push_back(kEmpty); }
         size_t size() const { return at_.size(); }
         // Stores a taken removal in `slot`.
@@ -316,7 +318,12 @@ private:
     Apexes apply_collapse(const CollapsePlan& plan, size_t index);
     // After a pass's collapses: their apexes' out[] and their rings' records (see select).
     void refresh_rings(const Apexes* collapses, size_t count);
-    std::vector<Apexes> apexes_;
+    // Empties the arrays a pass fills (sized by its share, which shrinks as the surface
+    // coarsens), their pages given back: those of a large pass would stay resident otherwise.
+    // Done once the share is half that of the last release (pass_release_).
+    void release_pass_arrays();
+    detail::HalvingRelease pass_release_;
+    detail::Array<Apexes> apexes_;
     // What checking a selected candidate on the untouched surface found.
     enum class Check : uint8_t { Refused, Waits, Taken };
     // `weight`: the candidate's key weight.
@@ -419,9 +426,10 @@ private:
     }
     // rank_candidates' scratch: the stale ids, which of them get new places, the new places
     // sorted, and the sort's scratch space.
-    std::vector<uint32_t> stale_ids_;
+    detail::Array<uint32_t> stale_ids_;
     detail::Array<uint8_t> fresh_status_;
     detail::Array<detail::Candidate> fresh_, scratch_;
+    detail::HalvingRelease scratch_release_;
     // The first ranking visits every id (all are stale) without listing them: a list of every id
     // would be the largest array of the run.
     bool all_stale_ = true;
@@ -438,13 +446,13 @@ private:
     // ascending), those it blocked with the holder index of one that blocked each (see select),
     // and what each of the pass's selected ones' check found and its plan, in selection order
     // over the rounds (what a taken one's operation needs when applied).
-    std::vector<uint32_t> pending_, selected_, blocked_, blocked_by_;
-    std::vector<Check> checked_;
+    detail::Array<uint32_t> pending_, selected_, blocked_, blocked_by_;
+    detail::Array<Check> checked_;
     detail::Array<CollapsePlan> plans_;
     RemovalStore removals_;
     // The operations a pass takes: (rank in ranked_, index into plans_ or removals_), sorted by
     // rank; then where each removal's writes go in the record.
-    std::vector<std::pair<uint32_t, uint32_t>> taken_;
+    detail::Array<std::pair<uint32_t, uint32_t>> taken_;
     std::vector<uint32_t> write_at_;
     size_t target_ = 0;      // of the run (for the progress fraction only)
     bool cancelled_ = false; // Options::progress asked to stop
