@@ -5,7 +5,9 @@
 // where its settings allow (Linux: transparent_hugepage `madvise` or `always`). An array's last
 // part stays in small pages, so that its resident memory is what it touches. Smaller arrays, and
 // every array where the system has no such advice, are allocated as usual. assign_on_threads
-// fills a large array with its pages first touched on the engine's threads.
+// fills a large array with its pages first touched on the engine's threads; release_unused and
+// clear_and_release give back the pages of scratch arrays that keep their room for a later,
+// smaller use.
 #pragma once
 
 #include "parallel.h"

@@ -225,8 +225,9 @@ bool Simplifier::rank_candidates(size_t& share) {
         if (!order_is_afresh()) audit.mismatches.fetch_add(1, std::memory_order_relaxed);
     }
     // The candidates grow fewer as the surface coarsens: the order keeps its room (a merge never
-    // moves it) but not the pages past its end. So do the rankings: their scratch keeps its
-    // room for the next one, its pages given back once they are half as many.
+    // moves it) but not the pages past its end. The rankings grow smaller too: their scratch
+    // keeps its room for the next one, its pages given back once a ranking visits half as many
+    // ids as at the last release.
     detail::release_unused(ranked_);
     if (scratch_release_.due(count)) {
         using detail::clear_and_release;
