@@ -68,7 +68,7 @@ bool Simplifier::collapsible(uint32_t h, uint32_t a, uint32_t b) const {
 Key Simplifier::collapse_key(uint32_t h) const {
     if (quadric_terms_) {
         CollapsePlan plan;
-        place(h, plan);
+        place(h, plan, Pricing::Key);
         return {float(plan.error), edge_length(h)};
     }
     return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], edge_length(h)};
@@ -244,7 +244,7 @@ Vec3 Simplifier::near_surface(const SegmentSlope& slope, double t, uint32_t a, u
 }
 
 // Where the new point of collapsing h goes, and its position along the edge.
-void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
+void Simplifier::place(uint32_t h, CollapsePlan& plan, Pricing pricing) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
     const VertexKind ka = mesh_.kind[a], kb = mesh_.kind[b];
     const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
@@ -254,8 +254,11 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan) const {
     SegmentError error;
     // Between two free ends the least-error point may also leave the edge sideways, to where the
     // error is least, keeping its projection on the edge (and so its data): the quadrics' geometry
-    // (kMinGeometryWeight) says where the surface is.
-    const bool may_leave_edge = least_error_ && ka == VertexKind::Free && kb == VertexKind::Free;
+    // (kMinGeometryWeight) says where the surface is. A key with data in the quadrics prices the
+    // point on the edge: the step holds the data and trims only the geometric part of the error,
+    // and leaving it out halves a key's work.
+    const bool may_leave_edge = least_error_ && ka == VertexKind::Free && kb == VertexKind::Free &&
+                                (pricing == Pricing::Plan || quadrics_.components == 0);
     SegmentSlope slope;
     double t = 0.5, sideways_change = 0;
     bool off_edge = false;

@@ -298,7 +298,9 @@ private:
     }
     float edge_length(uint32_t h) const; // the key's tie-break
     bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
-    void place(uint32_t h, CollapsePlan& plan) const;
+    // What place() is for: a collapse's plan, or its key (see place).
+    enum class Pricing : uint8_t { Plan, Key };
+    void place(uint32_t h, CollapsePlan& plan, Pricing pricing = Pricing::Plan) const;
     detail::Vec3 near_surface(const detail::SegmentSlope& slope, double t, uint32_t a, uint32_t b,
                               const detail::Vec3& axis, double length, const detail::Vec3& d) const;
     bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
