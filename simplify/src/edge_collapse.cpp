@@ -256,7 +256,7 @@ void Simplifier::place(uint32_t h, CollapsePlan& plan, Pricing pricing) const {
     // error is least, keeping its projection on the edge (and so its data): the quadrics' geometry
     // (kMinGeometryWeight) says where the surface is. A key with data in the quadrics prices the
     // point on the edge: the step holds the data and trims only the geometric part of the error,
-    // and leaving it out halves a key's work.
+    // and it is most of a key's work.
     const bool may_leave_edge = least_error_ && ka == VertexKind::Free && kb == VertexKind::Free &&
                                 (pricing == Pricing::Plan || quadrics_.components == 0);
     SegmentSlope slope;
