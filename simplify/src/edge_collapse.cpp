@@ -65,13 +65,13 @@ bool Simplifier::collapsible(uint32_t h, uint32_t a, uint32_t b) const {
     return false;
 }
 
-Key Simplifier::collapse_key(uint32_t h) const {
+float Simplifier::collapse_weight(uint32_t h) const {
     if (quadric_terms_) {
         CollapsePlan plan;
         place(h, plan, Pricing::Key);
-        return {float(plan.error), edge_length(h)};
+        return float(plan.error);
     }
-    return {weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)], edge_length(h)};
+    return weight_[mesh_.origin[h]] + weight_[mesh_.dest(h)];
 }
 
 void Simplifier::prefetch_key(uint32_t a, uint32_t b) const {
@@ -88,7 +88,7 @@ float Simplifier::edge_length(uint32_t h) const {
     return float(norm(sub(mesh_.point(mesh_.origin[h]), mesh_.point(mesh_.dest(h)))));
 }
 
-bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
+bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan, double taken_within) const {
     const uint32_t a = mesh_.origin[h], b = mesh_.dest(h), ht = mesh_.twin[h];
     plan.refused_at = kNone;
     if (!kinds_allow_collapse(h, a, b)) return false;
@@ -137,42 +137,55 @@ bool Simplifier::plan_collapse(uint32_t h, CollapsePlan& plan) const {
 
     if (!placed) place(h, plan);
     // No remaining triangle may flip, fold or turn its normal by more than the limit. The same
-    // walk finds how close the new triangles come to each end (see retraction_scale) and how far
-    // the new point lies off the planes of the triangles it replaces (see star_error).
+    // walk prices the new point against the planes of the triangles it replaces (see star_error).
     const Vec3 ref = ref_of(a, b);
     const double retraction = retraction_scale();
-    const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
-    double near_a = INFINITY, near_b = INFINITY, star = 0;
+    double star = 0;
     bool ok = true;
     auto check_star = [&](uint32_t v) {
         mesh_.for_each_outgoing(v, [&](uint32_t g) {
             const uint32_t t = g / 3;
             const bool removed = t == h / 3 || (ht != kNone && t == ht / 3);
             if (!ok || (removed && v != a)) return; // the removed ones once, from a's star
-            if (retraction > 0) star += star_error(g, plan.point);
-            if (removed) return;
-            if (!keeps_facing(g, plan.point, ref)) {
+            if (removed) {
+                if (retraction > 0) star += star_error(g, plan.point);
+            } else if (!keeps_facing(g, plan.point, ref, retraction > 0 ? &star : nullptr)) {
                 ok = false, plan.refused_at = g;
-            } else if (retraction > 0) {
-                const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
-                auto distance2 = [&](const Vec3& x) {
-                    const Vec3 d = sub(x, closest_on_triangle(x, plan.point, q, r).point);
-                    return dot(d, d);
-                };
-                near_a = std::min(near_a, distance2(pa));
-                near_b = std::min(near_b, distance2(pb));
             }
         });
     };
     check_star(a);
     check_star(b);
-    // Not priced, or no other triangle left (a closed tetrahedron's last collapse): nothing.
-    plan.retraction = std::isinf(near_a) ? 0 : retraction * (near_a + near_b);
-    if (retraction > 0) {
-        const double inv2 = quadrics_.inv_diagonal * quadrics_.inv_diagonal;
-        plan.retraction += geometry_weight() * star * inv2 * inv2;
-    }
-    return ok;
+    plan.retraction = 0;
+    if (!ok || !(retraction > 0)) return ok;
+    // How close the new triangles come to each end (see retraction_scale): the least distance
+    // over them, measured until the plan is known to be taken whatever the rest would find (the
+    // full key only falls as they are measured). No other triangle left (a closed tetrahedron's
+    // last collapse): none.
+    const double inv2 = quadrics_.inv_diagonal * quadrics_.inv_diagonal;
+    const double present = geometry_weight() * star * inv2 * inv2;
+    const Vec3 pa = mesh_.point(a), pb = mesh_.point(b);
+    double near_a = INFINITY, near_b = INFINITY;
+    auto full = [&] { return retraction * (near_a + near_b) + present; };
+    bool settled = false;
+    auto measure = [&](uint32_t v) {
+        mesh_.for_each_outgoing(v, [&](uint32_t g) {
+            const uint32_t t = g / 3;
+            if (settled || t == h / 3 || (ht != kNone && t == ht / 3)) return;
+            const Vec3 q = mesh_.point(mesh_.dest(g)), r = mesh_.point(mesh_.origin[prev(g)]);
+            auto distance2 = [&](const Vec3& x) {
+                const Vec3 d = sub(x, closest_on_triangle(x, plan.point, q, r).point);
+                return dot(d, d);
+            };
+            near_a = std::min(near_a, distance2(pa));
+            near_b = std::min(near_b, distance2(pb));
+            settled = double(float(plan.error + full())) <= taken_within;
+        });
+    };
+    measure(a);
+    measure(b);
+    plan.retraction = std::isinf(near_a) ? present : full();
+    return true;
 }
 
 // The accumulated quadrics measure a new point against the input triangles its two ends stand
@@ -193,12 +206,16 @@ double Simplifier::star_error(uint32_t g, const Vec3& p) const {
 
 // Triangle g / 3 of the star of origin[g], with origin[g] moved to p: it must not degenerate,
 // turn its normal by more than the limit, or stop facing the way of the input surface.
-bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref) const {
+bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref, double* star) const {
     const uint32_t v = mesh_.origin[g], qi = mesh_.dest(g), ri = mesh_.origin[prev(g)];
     const Vec3 pv = mesh_.point(v), q = mesh_.point(qi), r = mesh_.point(ri);
     const Vec3 before = cross(sub(q, pv), sub(r, pv));
     const Vec3 after = cross(sub(q, p), sub(r, p));
     const double la = norm(after), lb = norm(before);
+    if (star && lb > 0) { // star_error(g, p), its normal at hand
+        const double d = dot(before, sub(p, pv));
+        *star += d * d / (2 * lb);
+    }
     const Vec3 qp = sub(q, p), rp = sub(r, p);
     if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp))) return false;
     if (lb > 0 && dot(after, before) < mesh_.limits.normal_turn_cos * la * lb) return false;
@@ -477,7 +494,7 @@ void Simplifier::refresh_rings(const Apexes* collapses, size_t count) {
 }
 
 Simplifier::Check Simplifier::check_collapse(uint32_t h, float weight, CollapsePlan& plan) {
-    if (plan_collapse(h, plan)) {
+    if (plan_collapse(h, plan, taken_within(h, weight))) {
         // Its key left the retraction out (too costly for every key): if that makes it heavier
         // than the share the pass goes through, it waits for the next pass with its full key
         // (once: the retraction grows a little as the surface coarsens), and always if it makes

@@ -29,7 +29,7 @@ bool Simplifier::order_is_afresh() const {
             if (a == detail::kNone || (t != detail::kNone && t < id) ||
                 !collapsible(id, a, mesh_.dest(id)))
                 continue;
-            key = {raised_[id] ? edge_weight_[id] : collapse_key(id).weight, edge_length(id)};
+            key = {raised_[id] ? edge_weight_[id] : collapse_weight(id), edge_length(id)};
         } else {
             if (!removable(id)) continue; // a dead vertex is not removable
             key = removal_key(id);

@@ -66,7 +66,7 @@ uint8_t Simplifier::rank_id(uint32_t id) {
     }
     uint8_t ranked = 0;
     if (marks & kKeyStale) {
-        edge_weight_[id] = collapse_key(id).weight, raised_[id] = 0;
+        edge_weight_[id] = collapse_weight(id), raised_[id] = 0;
         ranked = kKeyed;
     }
     return std::isinf(edge_weight_[id]) ? ranked : ranked | kIsCandidate;

@@ -138,7 +138,7 @@ void Simplifier::refresh_vertex(uint32_t v) {
     // shortest edge (the key's tie-break). Same values as classify, the constructor's weights
     // and key_removal.
     // With the error quadrics, a vertex removal's weight is its estimated error (removal_error),
-    // and an edge's comes from its ends' quadrics (collapse_key).
+    // and an edge's comes from its ends' quadrics (collapse_weight).
     detail::GradientTerms::Steepest steepest(gradient_, mesh_, v);
     const bool removal = options_.strategy == Strategy::VertexRemoval;
     const bool ring_error = removal && quadric_terms_;
@@ -241,6 +241,11 @@ bool Simplifier::waits(uint32_t id, float key, float planned) {
     if ((planned > std::max(key, share_limit_) && !raised_[id]) || planned > options_.max_weight)
         return raised_[id] = 1, true;
     return false;
+}
+
+double Simplifier::taken_within(uint32_t id, float key) const {
+    return raised_[id] ? options_.max_weight
+                       : std::min(double(std::max(key, share_limit_)), options_.max_weight);
 }
 
 void Simplifier::publish_selected(bool over) {

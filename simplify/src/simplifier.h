@@ -48,7 +48,8 @@ private:
         double along; // position of `point` along the edge, for the data
         double error; // Terms::ErrorQuadrics: the error of both ends at `point`
         // Terms::ErrorQuadrics: what `error` misses: the retraction (retraction_scale) and the
-        // error against the present triangles (star_error).
+        // error against the present triangles (star_error). At least that much, and exactly that
+        // unless `error + retraction` came out within plan_collapse's `taken_within`.
         double retraction;
         uint32_t refused_at; // on a refusal: the half-edge of the triangle that would fold
     };
@@ -279,7 +280,8 @@ private:
     // kinds_allow_collapse, and not known to fail: plan_collapse refused it and nothing it reads
     // has changed since.
     bool collapsible(uint32_t h, uint32_t a, uint32_t b) const;
-    detail::Key collapse_key(uint32_t h) const;
+    // The weight of collapsing h, the first part of its key (edge_length the second).
+    float collapse_weight(uint32_t h) const;
     // Fetches the records and quadrics of an edge's ends a and b, which its key reads (a prefetch
     // changes no result).
     void prefetch_key(uint32_t a, uint32_t b) const;
@@ -297,13 +299,18 @@ private:
         }
     }
     float edge_length(uint32_t h) const; // the key's tie-break
-    bool plan_collapse(uint32_t h, CollapsePlan& plan) const;
+    // A plan whose full key (error + retraction) is at most `taken_within` is taken whatever its
+    // exact retraction (see taken_within()): the walk stops measuring the retraction once it knows
+    // that. The default measures it exactly.
+    bool plan_collapse(uint32_t h, CollapsePlan& plan, double taken_within = -INFINITY) const;
     // What place() is for: a collapse's plan, or its key (see place).
     enum class Pricing : uint8_t { Plan, Key };
     void place(uint32_t h, CollapsePlan& plan, Pricing pricing = Pricing::Plan) const;
     detail::Vec3 near_surface(const detail::SegmentSlope& slope, double t, uint32_t a, uint32_t b,
                               const detail::Vec3& axis, double length, const detail::Vec3& d) const;
-    bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref) const;
+    // With `star`, also adds star_error(g, p) there (from the normal the check computes anyway).
+    bool keeps_facing(uint32_t g, const detail::Vec3& p, const detail::Vec3& ref,
+                      double* star = nullptr) const;
     detail::Vec3 ref_of(uint32_t a, uint32_t b) const;
     // What the rest of a pass needs of an applied collapse: the new vertex, the edge's apexes
     // that another collapse shares and, for such an apex whose out[] the collapse removed, the
@@ -486,6 +493,8 @@ private:
     // which ranks it with that weight: heavier than its key and than the share (once, see
     // raised_), or always when heavier than Options::max_weight. Marks it raised if so.
     bool waits(uint32_t id, float key, float planned);
+    // The heaviest plan of candidate `id` keyed `key` that does not wait.
+    double taken_within(uint32_t id, float key) const;
     // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
     // was last computed, so it waits only once: the retraction's price grows a little as the
     // surface coarsens, and a plan made again later would be heavier again.
