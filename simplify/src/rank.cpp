@@ -148,7 +148,8 @@ bool Simplifier::rank_candidates(size_t& share) {
     all_stale_ = false;
     if (!all) gather_stale();
     const size_t count = all ? stale_.size() : stale_ids_.size();
-    auto id_at = [&](size_t i) { return all ? uint32_t(i) : stale_ids_[i]; };
+    const uint32_t* const ids = stale_ids_.data(); // by value: kept in registers in the loops
+    auto id_at = [all, ids](size_t i) { return all ? uint32_t(i) : ids[i]; };
     detail::assign_on_threads(fresh_status_, count, 0, parallel_);
     size_t dropped = 0;
     // An edge's key reads its ends' records and quadrics, scattered over the surface: fetched a
