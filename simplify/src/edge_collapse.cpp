@@ -39,6 +39,13 @@ bool spans(const uint32_t* ring, size_t n, bool closed, uint32_t p, uint32_t q) 
     return false;
 }
 
+// Area x squared distance to its plane, for a triangle whose normal n is twice its area long, of
+// a point `offset` from one of its corners (star_error's measure).
+double plane_error(const Vec3& n, double twice_area, const Vec3& offset) {
+    const double d = dot(n, offset); // twice_area x the distance to the plane
+    return d * d / (2 * twice_area);
+}
+
 } // namespace
 
 bool Simplifier::kinds_allow_collapse(uint32_t h, uint32_t a, uint32_t b) const {
@@ -199,9 +206,7 @@ double Simplifier::star_error(uint32_t g, const Vec3& p) const {
     const Vec3 n =
         cross(sub(mesh_.point(mesh_.dest(g)), pv), sub(mesh_.point(mesh_.origin[prev(g)]), pv));
     const double twice_area = norm(n);
-    if (!(twice_area > 0)) return 0;
-    const double d = dot(n, sub(p, pv)); // twice_area x the distance to the plane
-    return d * d / (2 * twice_area);
+    return twice_area > 0 ? plane_error(n, twice_area, sub(p, pv)) : 0;
 }
 
 // Triangle g / 3 of the star of origin[g], with origin[g] moved to p: it must not degenerate,
@@ -212,10 +217,7 @@ bool Simplifier::keeps_facing(uint32_t g, const Vec3& p, const Vec3& ref, double
     const Vec3 before = cross(sub(q, pv), sub(r, pv));
     const Vec3 after = cross(sub(q, p), sub(r, p));
     const double la = norm(after), lb = norm(before);
-    if (star && lb > 0) { // star_error(g, p), its normal at hand
-        const double d = dot(before, sub(p, pv));
-        *star += d * d / (2 * lb);
-    }
+    if (star && lb > 0) *star += plane_error(before, lb, sub(p, pv)); // star_error(g, p)
     const Vec3 qp = sub(q, p), rp = sub(r, p);
     if (la <= 1e-12 * (dot(qp, qp) + dot(rp, rp))) return false;
     if (lb > 0 && dot(after, before) < mesh_.limits.normal_turn_cos * la * lb) return false;
