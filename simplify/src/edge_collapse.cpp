@@ -379,12 +379,21 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
     const uint32_t entry_y = ht != kNone ? apex_entry(next(ht)) : kNone;
 
     // The two outer edges of each removed triangle become one edge.
-    // Either half of the merged edge may have been an edge's id, and the lower one is now.
+    // Either half of the merged edge may have been an edge's id, and the lower one is now: it is
+    // keyed again, and the other's place, if it had one, goes.
     auto merge = [&](uint32_t e1, uint32_t e2) {
         const uint32_t o1 = m.twin[e1], o2 = m.twin[e2];
         const uint8_t l = m.line[e1] | m.line[e2];
-        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l, mark_rekey(o1);
-        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l, mark_rekey(o2);
+        if (o1 != kNone) m.twin[o1] = o2, m.line[o1] = l;
+        if (o2 != kNone) m.twin[o2] = o1, m.line[o2] = l;
+        auto mark = [&](uint32_t o, uint32_t other) {
+            if (o == kNone) return;
+            if (other == kNone || o < other)
+                mark_rekey(o);
+            else if (placed_[o] != kUnplaced)
+                mark_stale(o);
+        };
+        mark(o1, o2), mark(o2, o1);
     };
     merge(next(h), prev(h));
     if (ht != kNone) merge(next(ht), prev(ht));
@@ -393,7 +402,8 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
         if (t == kNone) continue;
         for (uint32_t c = 0; c < 3; ++c) {
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
-            mark_stale(3 * t + c); // its place in the order goes, if it had one
+            // Its place in the order goes; without one, no ranking needs to visit it.
+            if (placed_[3 * t + c] != kUnplaced) mark_stale(3 * t + c);
         }
     }
 
