@@ -238,12 +238,12 @@ double Simplifier::retraction_scale() const {
 }
 
 bool Simplifier::waits(uint32_t id, float key, float planned) {
-    if ((planned > std::max(key, share_limit_) && !raised_[id]) || planned > options_.max_weight)
-        return raised_[id] = 1, true;
+    if (double(planned) > taken_within(id, key)) return raised_[id] = 1, true;
     return false;
 }
 
 double Simplifier::taken_within(uint32_t id, float key) const {
+    // Heavier than its key and than the share, once (raised_), or than Options::max_weight.
     return raised_[id] ? options_.max_weight
                        : std::min(double(std::max(key, share_limit_)), options_.max_weight);
 }

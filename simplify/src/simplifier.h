@@ -301,8 +301,8 @@ private:
     float edge_length(uint32_t h) const; // the key's tie-break
     // A plan whose full key (error + retraction) is at most `taken_within` is taken whatever its
     // exact retraction (see taken_within()): the walk stops measuring the retraction once it knows
-    // that. The default measures it exactly.
-    bool plan_collapse(uint32_t h, CollapsePlan& plan, double taken_within = -INFINITY) const;
+    // that.
+    bool plan_collapse(uint32_t h, CollapsePlan& plan, double taken_within) const;
     // What place() is for: a collapse's plan, or its key (see place).
     enum class Pricing : uint8_t { Plan, Key };
     void place(uint32_t h, CollapsePlan& plan, Pricing pricing = Pricing::Plan) const;
@@ -493,7 +493,7 @@ private:
     // which ranks it with that weight: heavier than its key and than the share (once, see
     // raised_), or always when heavier than Options::max_weight. Marks it raised if so.
     bool waits(uint32_t id, float key, float planned);
-    // The heaviest plan of candidate `id` keyed `key` that does not wait.
+    // The heaviest plan of candidate `id` keyed `key` that does not wait (waits reads it).
     double taken_within(uint32_t id, float key) const;
     // raised_[id]: the candidate (half-edge or vertex) waited for a heavier plan since its key
     // was last computed, so it waits only once: the retraction's price grows a little as the
