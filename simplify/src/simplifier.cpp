@@ -208,7 +208,10 @@ void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
     if (!collapse_quadrics || apex || kind != VertexKind::Free) refresh_vertex(v);
     if (!collapse) return mark_stale(v);
     // The edges at a ring vertex that kept its kind, valence and line read nothing that changed
-    // (a refused one stays stale anyway, see stale_): they keep their places.
+    // (a refused one stays stale anyway, see stale_): they keep their places. At an apex or a
+    // line vertex that kept its kind, only the valence fell (and a refusal may be forgiven, but
+    // a refused edge is stale anyway): an edge with a place keeps it, and only one without may
+    // become a candidate (mark_edges_at).
     const bool rekey = !collapse_quadrics || made || mesh_.kind[v] != kind || star_keys;
     if (rekey || apex || kind != VertexKind::Free) mark_edges_at(v, rekey);
 }
@@ -219,7 +222,7 @@ void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
         const uint32_t id = t != kNone && t < h ? t : h;
         if (rekey)
             mark_rekey(id);
-        else
+        else if (placed_[id] == kUnplaced)
             mark_stale(id);
     });
 }

@@ -337,7 +337,8 @@ private:
     enum class Check : uint8_t { Refused, Waits, Taken };
     // `weight`: the candidate's key weight.
     Check check_collapse(uint32_t h, float weight, CollapsePlan& plan);
-    // Marks the edges at v stale (and, with `rekey`, their keys to be computed again).
+    // With `rekey`, marks the edges at v stale with their keys to be computed again; without,
+    // only those that have no place in the order (see refresh_changed).
     void mark_edges_at(uint32_t v, bool rekey);
 
     // vertex_removal.cpp
