@@ -402,8 +402,11 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
         if (t == kNone) continue;
         for (uint32_t c = 0; c < 3; ++c) {
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
-            // Its place in the order goes; without one, no ranking needs to visit it.
-            if (placed_[3 * t + c] != kUnplaced) mark_stale(3 * t + c);
+            // Its place in the order goes, with no visit: it is no id again (drop_stale).
+            if (placed_[3 * t + c] != kUnplaced) {
+                placed_[3 * t + c] = kDropped;
+                std::atomic_ref<uint8_t>(dead_dropped_).store(1, std::memory_order_relaxed);
+            }
         }
     }
 

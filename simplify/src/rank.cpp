@@ -179,7 +179,8 @@ bool Simplifier::rank_candidates(size_t& share) {
         std::atomic_ref<size_t>(dropped).fetch_add(drops, std::memory_order_relaxed);
     });
     if (ranked < count) return false;
-    if (dropped > 0) drop_stale();
+    if (dropped > 0 || dead_dropped_) drop_stale();
+    dead_dropped_ = 0;
     // The new places in id order (counted per piece, then each piece written after the ones
     // before it), sorted and merged in.
     const size_t pieces = pieces_of(parallel_, count);

@@ -418,7 +418,7 @@ private:
     // computed again, as an end moved or changed kind; it stays until the key is computed, which
     // waits until the id is a candidate again. placed_[id]: whether id has a place in
     // ranked_ (kPlaced), one with a key that a plan raised since (kMoved), or one the ranking
-    // drops (kDropped).
+    // drops (kDropped; a removed half-edge stays so).
     detail::Array<detail::Candidate> ranked_;
     static constexpr uint8_t kStale = 1, kKeyStale = 2;
     detail::Array<uint8_t> stale_, placed_;
@@ -443,6 +443,9 @@ private:
     // The first ranking visits every id (all are stale) without listing them: a list of every id
     // would be the largest array of the run.
     bool all_stale_ = true;
+    // A collapse removed a half-edge that had a place: it is kDropped without a visit (it is no
+    // id again), and the next ranking drops such places.
+    uint8_t dead_dropped_ = 0;
     // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
     // checked_ and the plans) of the candidate that holds it. Each round has its own stamp
     // (stamp_ counts them), so nothing needs clearing between rounds or passes, and what a taken
