@@ -10,6 +10,7 @@
 #include <atomic>
 #include <bit>
 #include <cstring>
+#include <type_traits>
 
 namespace ddsimp {
 
@@ -156,19 +157,23 @@ bool Simplifier::rank_candidates(size_t& share) {
     // few ids ahead (a prefetch changes no result).
     constexpr size_t kKeyAhead = 8;
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
-    const size_t ranked = in_blocks(count, [&](size_t begin, size_t end) {
+    // The loop made once for every id (the first ranking, in id order, where half the ids are an
+    // edge's upper half-edge, no edge's id, whose key is not fetched) and once for the listed.
+    auto visit = [&](size_t begin, size_t end, auto id_of, auto every) {
         size_t drops = 0;
         for (size_t i = begin; i < end; ++i) {
             if (collapse && i + 2 * kKeyAhead < end) {
-                const uint32_t ahead = id_at(i + 2 * kKeyAhead);
+                const uint32_t ahead = id_of(i + 2 * kKeyAhead);
                 __builtin_prefetch(&mesh_.origin[ahead]), __builtin_prefetch(&edge_weight_[ahead]);
                 __builtin_prefetch(&fail_[ahead]), __builtin_prefetch(&placed_[ahead]);
             }
             if (collapse && i + kKeyAhead < end) {
-                const uint32_t ahead = id_at(i + kKeyAhead), a = mesh_.origin[ahead];
-                if ((stale_[ahead] & kKeyStale) && a != kNone) prefetch_key(a, mesh_.dest(ahead));
+                const uint32_t ahead = id_of(i + kKeyAhead), a = mesh_.origin[ahead];
+                const bool upper = every && mesh_.twin[ahead] < ahead; // kNone is not below
+                if ((stale_[ahead] & kKeyStale) && a != kNone && !upper)
+                    prefetch_key(a, mesh_.dest(ahead));
             }
-            const uint32_t id = id_at(i);
+            const uint32_t id = id_of(i);
             const uint8_t rank = rank_id(id);
             const uint8_t placed = placed_[id];
             const bool moved = placed == kMoved || (rank & kKeyed);
@@ -177,6 +182,14 @@ bool Simplifier::rank_candidates(size_t& share) {
             fresh_status_[i] = candidate && (placed == kUnplaced || moved);
         }
         std::atomic_ref<size_t>(dropped).fetch_add(drops, std::memory_order_relaxed);
+    };
+    const size_t ranked = in_blocks(count, [&](size_t begin, size_t end) {
+        if (all)
+            visit(
+                begin, end, [](size_t i) { return uint32_t(i); }, std::true_type{});
+        else
+            visit(
+                begin, end, [ids](size_t i) { return ids[i]; }, std::false_type{});
     });
     if (ranked < count) return false;
     if (dropped > 0 || dead_dropped_) drop_stale();
