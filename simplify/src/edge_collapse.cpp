@@ -403,10 +403,7 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
         for (uint32_t c = 0; c < 3; ++c) {
             m.origin[3 * t + c] = kNone, m.twin[3 * t + c] = kNone;
             // Its place in the order goes, with no visit: it is no id again (drop_stale).
-            if (placed_[3 * t + c] != kUnplaced) {
-                placed_[3 * t + c] = kDropped;
-                std::atomic_ref<uint8_t>(dead_dropped_).store(1, std::memory_order_relaxed);
-            }
+            if (placed_[3 * t + c] != kUnplaced) placed_[3 * t + c] = kDropped;
         }
     }
 

@@ -7,7 +7,6 @@
 #include "simplifier.h"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cstring>
 #include <type_traits>
@@ -152,7 +151,6 @@ bool Simplifier::rank_candidates(size_t& share) {
     const uint32_t* const ids = stale_ids_.data(); // by value: kept in registers in the loops
     auto id_at = [all, ids](size_t i) { return all ? uint32_t(i) : ids[i]; };
     detail::assign_on_threads(fresh_status_, count, 0, parallel_);
-    size_t dropped = 0;
     // An edge's key reads its ends' records and quadrics, scattered over the surface: fetched a
     // few ids ahead (a prefetch changes no result).
     constexpr size_t kKeyAhead = 8;
@@ -160,7 +158,6 @@ bool Simplifier::rank_candidates(size_t& share) {
     // The loop made once for every id (the first ranking, in id order, where half the ids are an
     // edge's upper half-edge, no edge's id, whose key is not fetched) and once for the listed.
     auto visit = [&](size_t begin, size_t end, auto id_of, auto every) {
-        size_t drops = 0;
         for (size_t i = begin; i < end; ++i) {
             if (collapse && i + 2 * kKeyAhead < end) {
                 const uint32_t ahead = id_of(i + 2 * kKeyAhead);
@@ -178,10 +175,9 @@ bool Simplifier::rank_candidates(size_t& share) {
             const uint8_t placed = placed_[id];
             const bool moved = placed == kMoved || (rank & kKeyed);
             const bool candidate = rank & kIsCandidate;
-            if (placed != kUnplaced && (moved || !candidate)) placed_[id] = kDropped, ++drops;
+            if (placed != kUnplaced && (moved || !candidate)) placed_[id] = kDropped;
             fresh_status_[i] = candidate && (placed == kUnplaced || moved);
         }
-        std::atomic_ref<size_t>(dropped).fetch_add(drops, std::memory_order_relaxed);
     };
     const size_t ranked = in_blocks(count, [&](size_t begin, size_t end) {
         if (all)
@@ -192,8 +188,9 @@ bool Simplifier::rank_candidates(size_t& share) {
                 begin, end, [ids](size_t i) { return ids[i]; }, std::false_type{});
     });
     if (ranked < count) return false;
-    if (dropped > 0 || dead_dropped_) drop_stale();
-    dead_dropped_ = 0;
+    // Some places go after nearly every pass (the collapsed edges' own, at least; a removed
+    // half-edge's are marked kDropped by its collapse, with no visit): no count of them is kept.
+    drop_stale();
     // The new places in id order (counted per piece, then each piece written after the ones
     // before it), sorted and merged in.
     const size_t pieces = pieces_of(parallel_, count);

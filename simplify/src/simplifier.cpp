@@ -209,9 +209,8 @@ void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
     if (!collapse) return mark_stale(v);
     // The edges at a ring vertex that kept its kind, valence and line read nothing that changed
     // (a refused one stays stale anyway, see stale_): they keep their places. At an apex or a
-    // line vertex that kept its kind, only the valence fell (and a refusal may be forgiven, but
-    // a refused edge is stale anyway): an edge with a place keeps it, and only one without may
-    // become a candidate (mark_edges_at).
+    // line vertex that kept its kind only the valence can have fallen, which can only make an
+    // edge without a place a candidate: mark_edges_at marks only those.
     const bool rekey = !collapse_quadrics || made || mesh_.kind[v] != kind || star_keys;
     if (rekey || apex || kind != VertexKind::Free) mark_edges_at(v, rekey);
 }

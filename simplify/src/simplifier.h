@@ -443,9 +443,6 @@ private:
     // The first ranking visits every id (all are stale) without listing them: a list of every id
     // would be the largest array of the run.
     bool all_stale_ = true;
-    // A collapse removed a half-edge that had a place: it is kDropped without a visit (it is no
-    // id again), and the next ranking drops such places.
-    uint8_t dead_dropped_ = 0;
     // busy_[v]: the stamp of the selection round that last reserved v and the holder index (into
     // checked_ and the plans) of the candidate that holds it. Each round has its own stamp
     // (stamp_ counts them), so nothing needs clearing between rounds or passes, and what a taken
