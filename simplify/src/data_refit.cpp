@@ -2,6 +2,7 @@
 // conjugate gradients.
 #include "data_refit.h"
 
+#include "data_flips.h"
 #include "working_mesh.h"
 
 #include <algorithm>
@@ -14,12 +15,6 @@ namespace {
 Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
     return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
 }
-
-// Where a sample lies on a triangle: the triangle and the weights of its corners.
-struct Landing {
-    uint32_t triangle = kNoOwner;
-    std::array<double, 3> weights{};
-};
 
 // Offsets of a compressed list: begin[i] .. begin[i + 1] for each i, from counts in begin[1..].
 void prefix_sum(std::vector<uint32_t>& begin) {
@@ -74,40 +69,38 @@ void solve(const std::vector<uint32_t>& row_begin, const std::vector<uint32_t>& 
     }
 }
 
-} // namespace
-
-void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
-    const Surface& in = *input.surface;
-    const std::vector<uint32_t>& in_triangles = *input.triangles;
-    const size_t n = level.vertex_count(), nt = level.triangle_count();
-    const size_t ni = input.vertices, nc = input.components.size();
-    if (nc == 0 || n == 0) return;
-
-    // Each level vertex's star.
-    std::vector<uint32_t> star_begin(n + 1, 0), star(3 * nt);
-    for (uint32_t v : level.triangles) ++star_begin[v + 1];
-    prefix_sum(star_begin);
-    {
-        std::vector<uint32_t> fill(star_begin.begin(), star_begin.end() - 1);
-        for (size_t t = 0; t < nt; ++t)
-            for (int c = 0; c < 3; ++c) star[fill[level.triangles[3 * t + c]]++] = uint32_t(t);
+// Each level vertex's triangles, in triangle order.
+struct Stars {
+    std::vector<uint32_t> begin, triangle;
+    Stars(const Surface& level)
+        : begin(level.vertex_count() + 1, 0), triangle(level.triangles.size()) {
+        for (uint32_t v : level.triangles) ++begin[v + 1];
+        prefix_sum(begin);
+        std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+        for (size_t t = 0; t < level.triangle_count(); ++t)
+            for (int c = 0; c < 3; ++c) triangle[fill[level.triangles[3 * t + c]]++] = uint32_t(t);
     }
+};
+
+// Each input vertex lands on the closest point of its owner's star (first triangle on a tie); if
+// that is on the star's rim, the closest point may lie beyond it, so the stars of the rim's
+// vertices are searched too. Only the vertices whose owner is marked in `only`, if given.
+void land_forward(const RefitInput& input, const Surface& level, const Stars& stars,
+                  const std::vector<uint8_t>* only, std::vector<Landing>& forward,
+                  Parallel& parallel) {
+    const Surface& in = *input.surface;
     auto corner_point = [&](uint32_t t, int c) {
         return point_of(level.positions, level.triangles[3 * size_t(t) + size_t(c)]);
     };
-
-    // Each input vertex lands on the closest point of its owner's star (first triangle on a tie);
-    // if that is on the star's rim, the closest point may lie beyond it, so the stars of the
-    // rim's vertices are searched too.
-    std::vector<Landing> forward(ni);
-    parallel.for_each(ni, [&](size_t i) {
+    parallel.for_each(input.vertices, [&](size_t i) {
         const uint32_t k = input.owner[i];
-        if (k == kNoOwner) return;
+        if (k == kNoOwner || (only && !(*only)[k])) return;
+        forward[i] = Landing{};
         const Vec3 p = point_of(in.positions, uint32_t(i));
         double best = std::numeric_limits<double>::infinity();
         auto search = [&](uint32_t v) {
-            for (uint32_t s = star_begin[v]; s < star_begin[v + 1]; ++s) {
-                const uint32_t t = star[s];
+            for (uint32_t s = stars.begin[v]; s < stars.begin[v + 1]; ++s) {
+                const uint32_t t = stars.triangle[s];
                 const ClosestPoint c = closest_on_triangle(p, corner_point(t, 0),
                                                            corner_point(t, 1), corner_point(t, 2));
                 const Vec3 d = sub(c.point, p);
@@ -119,10 +112,67 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
         const uint32_t* corner = &level.triangles[3 * size_t(forward[i].triangle)];
         const int at = corner[0] == k ? 0 : corner[1] == k ? 1 : 2;
         if (forward[i].weights[at] > 0) return;
-        for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s)
+        for (uint32_t s = stars.begin[k]; s < stars.begin[k + 1]; ++s)
             for (int c = 0; c < 3; ++c)
-                if (const uint32_t v = level.triangles[3 * size_t(star[s]) + c]; v != k) search(v);
+                if (const uint32_t v = level.triangles[3 * size_t(stars.triangle[s]) + c]; v != k)
+                    search(v);
     });
+}
+
+// Each free level vertex lands on the closest point of the input triangles it replaced (those
+// with a corner it owns; the first on a tie): the distances on the threads, one per corner, then
+// the least per vertex in triangle order.
+std::vector<Landing> land_backward(const RefitInput& input, const Surface& level,
+                                   Parallel& parallel) {
+    const Surface& in = *input.surface;
+    const std::vector<uint32_t>& in_triangles = *input.triangles;
+    const size_t n = level.vertex_count();
+    std::vector<Landing> backward(n);
+    const size_t nti = in_triangles.size() / 3;
+    constexpr double kNotOwned = std::numeric_limits<double>::infinity();
+    std::vector<double> distance(3 * nti, kNotOwned);
+    auto corner_owner = [&](size_t t, int j) {
+        const uint32_t* c = &in_triangles[3 * t];
+        const uint32_t k = input.owner[c[j]];
+        const bool repeated =
+            (j > 0 && k == input.owner[c[0]]) || (j > 1 && k == input.owner[c[1]]);
+        return input.free[k] && !repeated ? k : kNoOwner;
+    };
+    auto closest = [&](size_t t, uint32_t k) {
+        const uint32_t* c = &in_triangles[3 * t];
+        return closest_on_triangle(point_of(level.positions, k), point_of(in.positions, c[0]),
+                                   point_of(in.positions, c[1]), point_of(in.positions, c[2]));
+    };
+    parallel.for_each(nti, [&](size_t t) {
+        for (int j = 0; j < 3; ++j)
+            if (const uint32_t k = corner_owner(t, j); k != kNoOwner) {
+                const Vec3 e = sub(closest(t, k).point, point_of(level.positions, k));
+                distance[3 * t + size_t(j)] = dot(e, e);
+            }
+    });
+    std::vector<double> best(n, kNotOwned);
+    for (size_t t = 0; t < nti; ++t)
+        for (int j = 0; j < 3; ++j)
+            if (distance[3 * t + size_t(j)] < kNotOwned) {
+                const uint32_t k = input.owner[in_triangles[3 * t + size_t(j)]];
+                if (distance[3 * t + size_t(j)] < best[k])
+                    best[k] = distance[3 * t + size_t(j)], backward[k].triangle = uint32_t(t);
+            }
+    parallel.for_each(n, [&](size_t k) {
+        if (backward[k].triangle != kNoOwner)
+            backward[k].weights = closest(backward[k].triangle, uint32_t(k)).weights;
+    });
+    return backward;
+}
+
+// The least-squares data of the free vertices over both sets of samples (see refit_data).
+void fit_values(const RefitInput& input, const Stars& stars, const std::vector<Landing>& forward,
+                const std::vector<Landing>& backward, Surface& level, Parallel& parallel) {
+    const Surface& in = *input.surface;
+    const std::vector<uint32_t>& in_triangles = *input.triangles;
+    const size_t n = level.vertex_count(), nt = level.triangle_count();
+    const size_t ni = input.vertices, nc = input.components.size();
+    const std::vector<uint32_t>&star_begin = stars.begin, &star = stars.triangle;
     // The samples on each level triangle, in input order.
     std::vector<uint32_t> landed_begin(nt + 1, 0), landed;
     for (const Landing& l : forward)
@@ -133,47 +183,6 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
         std::vector<uint32_t> fill(landed_begin.begin(), landed_begin.end() - 1);
         for (size_t i = 0; i < ni; ++i)
             if (forward[i].triangle != kNoOwner) landed[fill[forward[i].triangle]++] = uint32_t(i);
-    }
-
-    // Each free level vertex lands on the closest point of the input triangles it replaced (those
-    // with a corner it owns; the first on a tie): the distances on the threads, one per corner,
-    // then the least per vertex in triangle order.
-    std::vector<Landing> backward(n);
-    {
-        const size_t nti = in_triangles.size() / 3;
-        constexpr double kNotOwned = std::numeric_limits<double>::infinity();
-        std::vector<double> distance(3 * nti, kNotOwned);
-        auto corner_owner = [&](size_t t, int j) {
-            const uint32_t* c = &in_triangles[3 * t];
-            const uint32_t k = input.owner[c[j]];
-            const bool repeated =
-                (j > 0 && k == input.owner[c[0]]) || (j > 1 && k == input.owner[c[1]]);
-            return input.free[k] && !repeated ? k : kNoOwner;
-        };
-        auto closest = [&](size_t t, uint32_t k) {
-            const uint32_t* c = &in_triangles[3 * t];
-            return closest_on_triangle(point_of(level.positions, k), point_of(in.positions, c[0]),
-                                       point_of(in.positions, c[1]), point_of(in.positions, c[2]));
-        };
-        parallel.for_each(nti, [&](size_t t) {
-            for (int j = 0; j < 3; ++j)
-                if (const uint32_t k = corner_owner(t, j); k != kNoOwner) {
-                    const Vec3 e = sub(closest(t, k).point, point_of(level.positions, k));
-                    distance[3 * t + size_t(j)] = dot(e, e);
-                }
-        });
-        std::vector<double> best(n, kNotOwned);
-        for (size_t t = 0; t < nti; ++t)
-            for (int j = 0; j < 3; ++j)
-                if (distance[3 * t + size_t(j)] < kNotOwned) {
-                    const uint32_t k = input.owner[in_triangles[3 * t + size_t(j)]];
-                    if (distance[3 * t + size_t(j)] < best[k])
-                        best[k] = distance[3 * t + size_t(j)], backward[k].triangle = uint32_t(t);
-                }
-        parallel.for_each(n, [&](size_t k) {
-            if (backward[k].triangle != kNoOwner)
-                backward[k].weights = closest(backward[k].triangle, uint32_t(k)).weights;
-        });
     }
 
     // The unknowns: one per free vertex.
@@ -302,6 +311,31 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
                 float(std::clamp(x[u], low[u * nc + j], high[u * nc + j]));
         }
     }
+}
+
+} // namespace
+
+void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
+    if (input.components.empty() || level.vertex_count() == 0) return;
+    Stars stars(level);
+    std::vector<Landing> forward(input.vertices);
+    land_forward(input, level, stars, nullptr, forward, parallel);
+    const std::vector<Landing> backward = land_backward(input, level, parallel);
+    fit_values(input, stars, forward, backward, level, parallel);
+    const std::vector<uint8_t> changed = flip_edges_for_data(input, forward, level, parallel);
+    if (changed.empty()) return;
+    // A sample's search reaches its owner's star and its neighbours' (land_forward): those of a
+    // changed vertex and its neighbours land again. The backward samples do not depend on the
+    // triangles.
+    stars = Stars(level);
+    std::vector<uint8_t> again = changed;
+    for (size_t v = 0; v < changed.size(); ++v)
+        if (changed[v])
+            for (uint32_t s = stars.begin[v]; s < stars.begin[v + 1]; ++s)
+                for (int c = 0; c < 3; ++c)
+                    again[level.triangles[3 * size_t(stars.triangle[s]) + c]] = 1;
+    land_forward(input, level, stars, &again, forward, parallel);
+    fit_values(input, stars, forward, backward, level, parallel);
 }
 
 } // namespace ddsimp::detail

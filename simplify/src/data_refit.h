@@ -1,16 +1,24 @@
 // The data of an edge-collapse level fitted to the input by least squares, over the whole level
-// at once (docs/algorithm.md, "Edge collapse": the data at the new point).
+// at once, and its edges flipped where the data fits better (docs/algorithm.md, "Edge collapse":
+// the data at the new point).
 #pragma once
 
 #include "ddsimp/ddsimp.h"
 #include "parallel.h"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
 namespace ddsimp::detail {
 
 inline constexpr uint32_t kNoOwner = 0xffffffffu;
+
+// Where a sample lies on a level triangle: the triangle and the weights of its corners.
+struct Landing {
+    uint32_t triangle = kNoOwner;
+    std::array<double, 3> weights{};
+};
 
 // Which of a level's vertices and data components the fit sets, and what it fits them to.
 struct RefitInput {
@@ -26,14 +34,23 @@ struct RefitInput {
     std::vector<uint8_t> free;
     // The components fitted, as (field index, component) pairs.
     std::vector<std::pair<uint32_t, uint32_t>> components;
+    // What an edge flip weighs (data_flips.h), in the units of the run's error quadrics: per
+    // fitted component, the weight of a squared data difference; the weight of a squared
+    // distance; and the least cosine between the normals of two triangles that a flip may
+    // join or make (above 1: no flips).
+    std::vector<double> data_weight;
+    double distance_weight = 0;
+    double flat_cos = 2;
 };
 
 // Sets the free vertices' data of `level` so that, over both sets of samples at once, the squared
 // data differences are least: each input vertex against the level's data interpolated at the
 // closest point of its owner's star, and each level vertex against the input's data interpolated
 // at the closest point of the input triangles it replaced. Each value is then clamped to the range
-// of the samples it was fitted to, so it never overshoots the data it stands for. The same bytes
-// for any number of threads.
+// of the samples it was fitted to, so it never overshoots the data it stands for. Then the
+// level's edges are flipped where that lowers the samples' error (flip_edges_for_data), and if
+// any was, the samples that may land elsewhere are landed again and the data fitted once more.
+// The same bytes for any number of threads.
 void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail

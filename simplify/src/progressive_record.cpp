@@ -144,6 +144,9 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.vertices = input_vertices_;
     input.triangles = &base_triangles_;
     input.components = refit_components_;
+    input.data_weight = refit_data_weight_;
+    input.distance_weight = refit_distance_weight_;
+    input.flat_cos = refit_flat_cos_;
     // index marks the ids the level does not keep with 0xffffffff, which is kNoOwner: an input
     // vertex no triangle uses has no owner.
     static_assert(detail::kNoOwner == 0xffffffffu);

@@ -1,5 +1,7 @@
 #include "simplifier.h"
 
+#include "data_flips.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -98,7 +100,15 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
             while (first + uint32_t(surface.fields[field].components) <= quadrics_.offset[j])
                 first += uint32_t(surface.fields[field++].components);
             record_.refit_components_.emplace_back(field, quadrics_.offset[j] - first);
+            record_.refit_data_weight_.push_back((1 - options.alpha) * quadrics_.inv_range[j] *
+                                                 quadrics_.inv_range[j]);
         }
+        // A level's edges are flipped for its data (data_flips.h) only where the surface is
+        // nearly flat, and never across a feature edge.
+        record_.refit_distance_weight_ =
+            geometry_weight() * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
+        record_.refit_flat_cos_ = std::cos(
+            std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
         if (!mesh_.locked.empty()) {
             record_.locked_input_.resize(n);
             for (uint32_t v = 0; v < n; ++v) record_.locked_input_[v] = mesh_.locked[rank_[v]];

@@ -297,12 +297,13 @@ public:
     // more is removable.
     static ProgressiveRecord build(const Surface& input, const Options& options);
 
-    // The surface after the first `operations` operations (0 = the repaired input), its data
-    // fitted over the level with edge collapse's least-error data (DataPlacement::LeastError).
+    // The surface after the first `operations` operations (0 = the repaired input). With edge
+    // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level
+    // and, where the surface is nearly flat, its edges flipped where the data fits better.
     Surface after(size_t operations) const;
-    // The same level with each vertex's data as vertices() carries it, never fitted: what a
-    // refinement stream (vertices() and indexed_triangles) shows, level after level. Equal to
-    // after() but for fitted data.
+    // The same level with each vertex's data as vertices() carries it, never fitted, nor its
+    // edges flipped: what a refinement stream (vertices() and indexed_triangles) shows, level
+    // after level. The same vertices, in the same order, as after().
     Surface after_as_recorded(size_t operations) const;
     // The surface at the first operation that leaves at most `triangles` triangles (or the
     // coarsest recorded if none does).
@@ -353,9 +354,13 @@ private:
     size_t input_vertices_ = 0;
     // Edge collapse with DataPlacement::LeastError: the data components (field, component) that
     // after() fits to the input over the whole level (data_refit.h), and which input vertices
-    // are locked (empty: none), whose data and that of the points placed on them stay.
+    // are locked (empty: none), whose data and that of the points placed on them stay; what a
+    // flip of the level's edges weighs (the weight of each component's squared difference and
+    // of a squared distance) and the least cosine between the normals it flips across.
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
+    std::vector<double> refit_data_weight_;
+    double refit_distance_weight_ = 0, refit_flat_cos_ = 2;
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;

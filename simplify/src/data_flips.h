@@ -1,0 +1,32 @@
+// A fitted level's edges flipped where the other diagonal of their quad fits the input's samples
+// better: a data-dependent triangulation of the level's vertices (docs/algorithm.md, "Edge
+// collapse": the data at the new point).
+#pragma once
+
+#include "data_refit.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+// The most two triangles' normals may turn apart, in degrees, for the edge between them to be
+// flipped (and for the two it makes). Creases stay; a flat region's triangulation follows the
+// data.
+inline constexpr double kFlipFlatDegrees = 20;
+
+// Sweeps over the level's edges, in order, flipping each edge between two triangles that are
+// nearly coplanar (their normals' cosine at least input.flat_cos, before the flip and after)
+// when the other diagonal lowers the weighted squared error (RefitInput::data_weight,
+// distance_weight) of the input samples landed on the two triangles, each moved to the nearer of
+// the new two. A sweep after the first tries only the edges around the last one's flips, until
+// a sweep flips nothing: every flip lowers the samples' total error, so none is undone.
+// The topology stays: an edge is flipped only if it has exactly two triangles, oriented alike,
+// and its quad's other diagonal is no edge yet. `forward` (per input vertex, as refit_data lands
+// it) follows the samples it moves. Returns, per level vertex, whether its star changed (empty
+// when nothing was flipped). The same bytes for any number of threads: the threads only find
+// the edges worth trying, which are then tried and flipped one by one in order.
+std::vector<uint8_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
+                                         Surface& level, Parallel& parallel);
+
+} // namespace ddsimp::detail
