@@ -1,5 +1,5 @@
-// Least-squares data for a level: the normal equations of the two-way sample fit, solved by
-// conjugate gradients.
+// Least-squares data for a level: the samples landed both ways, the normal equations of the
+// two-way fit solved by conjugate gradients; then the edge flips and, if any, the fit again.
 #include "data_refit.h"
 
 #include "data_flips.h"
@@ -72,7 +72,7 @@ void solve(const std::vector<uint32_t>& row_begin, const std::vector<uint32_t>& 
 // Each level vertex's triangles, in triangle order.
 struct Stars {
     std::vector<uint32_t> begin, triangle;
-    Stars(const Surface& level)
+    explicit Stars(const Surface& level)
         : begin(level.vertex_count() + 1, 0), triangle(level.triangles.size()) {
         for (uint32_t v : level.triangles) ++begin[v + 1];
         prefix_sum(begin);
@@ -172,7 +172,8 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
     const std::vector<uint32_t>& in_triangles = *input.triangles;
     const size_t n = level.vertex_count(), nt = level.triangle_count();
     const size_t ni = input.vertices, nc = input.components.size();
-    const std::vector<uint32_t>&star_begin = stars.begin, &star = stars.triangle;
+    const std::vector<uint32_t>& star_begin = stars.begin;
+    const std::vector<uint32_t>& star = stars.triangle;
     // The samples on each level triangle, in input order.
     std::vector<uint32_t> landed_begin(nt + 1, 0), landed;
     for (const Landing& l : forward)
@@ -324,9 +325,9 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     fit_values(input, stars, forward, backward, level, parallel);
     const std::vector<uint8_t> changed = flip_edges_for_data(input, forward, level, parallel);
     if (changed.empty()) return;
-    // A sample's search reaches its owner's star and its neighbours' (land_forward): those of a
-    // changed vertex and its neighbours land again. The backward samples do not depend on the
-    // triangles.
+    // A sample's search reaches its owner's star and its owner's neighbours' (land_forward): the
+    // samples owned by a vertex whose star changed, or by one of its neighbours, land again. The
+    // backward samples do not depend on the level's triangles.
     stars = Stars(level);
     std::vector<uint8_t> again = changed;
     for (size_t v = 0; v < changed.size(); ++v)
