@@ -71,6 +71,8 @@ public:
         return after < before - noise ? before - after : 0;
     }
 
+    // Flips q's edge and moves its samples; the quad's four rim edges go to `around`, for the
+    // next sweep.
     void flip(const Quad& q, std::vector<uint64_t>& around) {
         uint32_t moved = head_[q.t1];
         if (moved == kNoOwner) {
