@@ -40,7 +40,6 @@ public:
                                                       std::array<uint32_t, 2>{t, kNoOwner});
                 if (!fresh) it->second[1] = it->second[1] == kNoOwner ? t : kCrowded;
             }
-        changed_.assign(level.vertex_count(), 0);
     }
 
     std::vector<uint64_t> all_edges() const {
@@ -97,13 +96,10 @@ public:
             forward_[i] = nearer(i, q);
             next_[i] = head_[forward_[i].triangle], head_[forward_[i].triangle] = i;
         }
-        for (uint32_t v : {q.a, q.b, q.c, q.d}) changed_[v] = 1;
         for (uint64_t key :
              {edge_key(q.a, q.d), edge_key(q.d, q.b), edge_key(q.b, q.c), edge_key(q.c, q.a)})
             around.push_back(key);
     }
-
-    std::vector<uint8_t>& changed() { return changed_; }
 
 private:
     static constexpr uint32_t kCrowded = kNoOwner - 1;
@@ -203,14 +199,13 @@ private:
     std::vector<uint32_t>& triangles_;
     std::vector<uint32_t> head_, next_;
     std::unordered_map<uint64_t, std::array<uint32_t, 2>> edges_;
-    std::vector<uint8_t> changed_;
 };
 
 } // namespace
 
-std::vector<uint8_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
-                                         Surface& level, Parallel& parallel) {
-    if (!(input.flat_cos <= 1) || level.triangle_count() < 2) return {};
+bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,
+                         Parallel& parallel) {
+    if (!(input.flat_cos <= 1) || level.triangle_count() < 2) return false;
     LevelFlips flips(input, forward, level);
     std::vector<uint64_t> sweep = flips.all_edges();
     bool any = false;
@@ -235,8 +230,7 @@ std::vector<uint8_t> flip_edges_for_data(const RefitInput& input, std::vector<La
         around.erase(std::unique(around.begin(), around.end()), around.end());
         sweep.swap(around);
     }
-    if (!any) return {};
-    return std::move(flips.changed());
+    return any;
 }
 
 } // namespace ddsimp::detail

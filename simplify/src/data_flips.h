@@ -5,7 +5,6 @@
 
 #include "data_refit.h"
 
-#include <cstdint>
 #include <vector>
 
 namespace ddsimp::detail {
@@ -23,10 +22,10 @@ inline constexpr double kFlipFlatDegrees = 20;
 // a sweep flips nothing: every flip lowers the samples' total error, so none is undone.
 // The topology stays: an edge is flipped only if it has exactly two triangles, oriented alike,
 // and its quad's other diagonal is no edge yet. `forward` (per input vertex, as refit_data lands
-// it) follows the samples it moves. Returns, per level vertex, whether its star changed (empty
-// when nothing was flipped). The same bytes for any number of threads: the threads only find
-// the edges worth trying, which are then tried and flipped one by one in order.
-std::vector<uint8_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
-                                         Surface& level, Parallel& parallel);
+// it) follows the samples it moves. Returns whether any edge was flipped. The same bytes for any
+// number of threads: the threads only find the edges worth trying, which are then tried and
+// flipped one by one in order.
+bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,
+                         Parallel& parallel);
 
 } // namespace ddsimp::detail

@@ -323,19 +323,10 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     land_forward(input, level, stars, nullptr, forward, parallel);
     const std::vector<Landing> backward = land_backward(input, level, parallel);
     fit_values(input, stars, forward, backward, level, parallel);
-    const std::vector<uint8_t> changed = flip_edges_for_data(input, forward, level, parallel);
-    if (changed.empty()) return;
-    // A sample's search reaches its owner's star and its owner's neighbours' (land_forward): the
-    // samples owned by a vertex whose star changed, or by one of its neighbours, land again. The
-    // backward samples do not depend on the level's triangles.
+    if (!flip_edges_for_data(input, forward, level, parallel)) return;
+    // The flips moved the samples on each flipped pair of triangles to the nearer new one; the
+    // other samples lie where they did, as the flips only join nearly coplanar triangles.
     stars = Stars(level);
-    std::vector<uint8_t> again = changed;
-    for (size_t v = 0; v < changed.size(); ++v)
-        if (changed[v])
-            for (uint32_t s = stars.begin[v]; s < stars.begin[v + 1]; ++s)
-                for (int c = 0; c < 3; ++c)
-                    again[level.triangles[3 * size_t(stars.triangle[s]) + c]] = 1;
-    land_forward(input, level, stars, &again, forward, parallel);
     fit_values(input, stars, forward, backward, level, parallel);
 }
 
