@@ -32,6 +32,7 @@ public:
         for (size_t i = forward.size(); i-- > 0;)
             if (const uint32_t t = forward[i].triangle; t != kNoOwner)
                 next_[i] = head_[t], head_[t] = uint32_t(i);
+        flipped_in_.assign(nt, 0);
         // Each edge's triangles; a third one marks the edge crowded (never flipped).
         edges_.reserve(3 * nt / 2 + 1);
         for (uint32_t t = 0; t < nt; ++t)
@@ -49,6 +50,9 @@ public:
         std::sort(keys.begin(), keys.end());
         return keys;
     }
+
+    // Whether a flip marked with `stamp` changed triangle t.
+    bool touched(uint32_t t, uint32_t stamp) const { return flipped_in_[t] == stamp; }
 
     // How much flipping the edge lowers its samples' error (0 if it may not be flipped).
     double gain(uint64_t key, Quad& q) const {
@@ -72,7 +76,8 @@ public:
 
     // Flips q's edge and moves its samples; the quad's four rim edges go to `around`, for the
     // next sweep.
-    void flip(const Quad& q, std::vector<uint64_t>& around) {
+    void flip(const Quad& q, std::vector<uint64_t>& around, uint32_t stamp) {
+        flipped_in_[q.t1] = flipped_in_[q.t2] = stamp;
         uint32_t moved = head_[q.t1];
         if (moved == kNoOwner) {
             moved = head_[q.t2];
@@ -99,6 +104,23 @@ public:
         for (uint64_t key :
              {edge_key(q.a, q.d), edge_key(q.d, q.b), edge_key(q.b, q.c), edge_key(q.c, q.a)})
             around.push_back(key);
+    }
+
+    // Whether q's edge may be flipped: its other diagonal is no edge, and both pairs of
+    // triangles are flat, unfolded and no sliver.
+    bool flippable(const Quad& q) const {
+        if (q.c == q.d || edges_.count(edge_key(q.c, q.d))) return false;
+        auto flat = [&](const Vec3& n, const Vec3& m) {
+            return dot(n, m) >= input_.flat_cos * std::sqrt(dot(n, n) * dot(m, m));
+        };
+        const Vec3 n1 = normal(q.a, q.b, q.c), n2 = normal(q.b, q.a, q.d);
+        const Vec3 m1 = normal(q.a, q.d, q.c), m2 = normal(q.d, q.b, q.c);
+        // No sliver: each new triangle keeps a part of the quad's area that rounding cannot undo.
+        const double area = std::sqrt(dot(n1, n1)) + std::sqrt(dot(n2, n2));
+        if (!(std::sqrt(dot(m1, m1)) > 1e-6 * area && std::sqrt(dot(m2, m2)) > 1e-6 * area))
+            return false;
+        const Vec3 facing = add(n1, n2);
+        return flat(n1, n2) && flat(m1, m2) && dot(m1, facing) > 0 && dot(m2, facing) > 0;
     }
 
 private:
@@ -147,21 +169,6 @@ private:
         return false;
     }
 
-    bool flippable(const Quad& q) const {
-        if (q.c == q.d || edges_.count(edge_key(q.c, q.d))) return false;
-        auto flat = [&](const Vec3& n, const Vec3& m) {
-            return dot(n, m) >= input_.flat_cos * std::sqrt(dot(n, n) * dot(m, m));
-        };
-        const Vec3 n1 = normal(q.a, q.b, q.c), n2 = normal(q.b, q.a, q.d);
-        const Vec3 m1 = normal(q.a, q.d, q.c), m2 = normal(q.d, q.b, q.c);
-        // No sliver: each new triangle keeps a part of the quad's area that rounding cannot undo.
-        const double area = std::sqrt(dot(n1, n1)) + std::sqrt(dot(n2, n2));
-        if (!(std::sqrt(dot(m1, m1)) > 1e-6 * area && std::sqrt(dot(m2, m2)) > 1e-6 * area))
-            return false;
-        const Vec3 facing = add(n1, n2);
-        return flat(n1, n2) && flat(m1, m2) && dot(m1, facing) > 0 && dot(m2, facing) > 0;
-    }
-
     // Sample i on the nearer of a quad's two flipped triangles (the first on a tie).
     Landing nearer(uint32_t i, const Quad& q) const {
         const float* s = &in_.positions[3 * size_t(i)];
@@ -198,6 +205,7 @@ private:
     Surface& level_;
     std::vector<uint32_t>& triangles_;
     std::vector<uint32_t> head_, next_;
+    std::vector<uint32_t> flipped_in_; // per triangle: the stamp of the last flip that changed it
     std::unordered_map<uint64_t, std::array<uint32_t, 2>> edges_;
 };
 
@@ -210,21 +218,27 @@ bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
     std::vector<uint64_t> sweep = flips.all_edges();
     bool any = false;
     std::vector<uint8_t> worth;
+    std::vector<Quad> quads;
     // Every flip lowers the samples' error, so the sweeps end; the cap bounds their time on a
     // level whose flips keep making room for more.
     constexpr int kMaxSweeps = 32;
     for (int round = 0; round < kMaxSweeps && !sweep.empty(); ++round) {
         // Which edges gain, as the level stands at the sweep's start (on the threads); each is
-        // tried again when its turn comes, as the flips before it may have changed its quad.
-        worth.assign(sweep.size(), 0);
-        parallel.for_each(sweep.size(), [&](size_t k) {
-            Quad q;
-            worth[k] = flips.gain(sweep[k], q) > 0;
-        });
+        // flipped in its turn if it still gains, as the flips before it may have changed its
+        // quad.
+        worth.assign(sweep.size(), 0), quads.resize(sweep.size());
+        parallel.for_each(sweep.size(),
+                          [&](size_t k) { worth[k] = flips.gain(sweep[k], quads[k]) > 0; });
         std::vector<uint64_t> around;
+        const uint32_t stamp = uint32_t(round) + 1;
         for (size_t k = 0; k < sweep.size(); ++k) {
-            Quad q;
-            if (worth[k] && flips.gain(sweep[k], q) > 0) flips.flip(q, around), any = true;
+            if (!worth[k]) continue;
+            // A quad no flip of this sweep has touched gains what it gained at the start, unless
+            // a flip has made its other diagonal an edge since.
+            Quad& q = quads[k];
+            const bool as_found = !flips.touched(q.t1, stamp) && !flips.touched(q.t2, stamp);
+            if (as_found ? flips.flippable(q) : flips.gain(sweep[k], q) > 0)
+                flips.flip(q, around, stamp), any = true;
         }
         std::sort(around.begin(), around.end());
         around.erase(std::unique(around.begin(), around.end()), around.end());
