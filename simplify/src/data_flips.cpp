@@ -88,8 +88,8 @@ public:
         }
         set(q.t1, q.a, q.d, q.c), set(q.t2, q.d, q.b, q.c);
         edges_.erase(edge_key(q.a, q.b));
-        swap_triangle(edge_key(q.a, q.d), q.t2, q.t1),
-            swap_triangle(edge_key(q.b, q.c), q.t1, q.t2);
+        swap_triangle(edge_key(q.a, q.d), q.t2, q.t1);
+        swap_triangle(edge_key(q.b, q.c), q.t1, q.t2);
         edges_[edge_key(q.c, q.d)] = {q.t1, q.t2};
         // The moved samples, each to the nearer new triangle, kept in input order.
         std::vector<uint32_t> samples;

@@ -49,8 +49,7 @@ struct RefitInput {
 // at the closest point of the input triangles it replaced. Each value is then clamped to the range
 // of the samples it was fitted to, so it never overshoots the data it stands for. Then the
 // level's edges are flipped where that lowers the samples' error (flip_edges_for_data), and if
-// any was, the data is fitted once more.
-// The same bytes for any number of threads.
+// any was, the data is fitted once more. The same bytes for any number of threads.
 void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail
