@@ -130,10 +130,7 @@ private:
     using Corners = std::array<uint32_t, 3>;
     uint32_t corner(uint32_t t, int c) const { return triangles_[3 * size_t(t) + size_t(c % 3)]; }
     Corners corners(uint32_t t) const { return {corner(t, 0), corner(t, 1), corner(t, 2)}; }
-    Vec3 point(uint32_t v) const {
-        const float* p = &level_.positions[3 * size_t(v)];
-        return {p[0], p[1], p[2]};
-    }
+    Vec3 point(uint32_t v) const { return point_of(level_.positions, v); }
     Vec3 normal(uint32_t a, uint32_t b, uint32_t c) const {
         const Vec3 pa = point(a);
         return cross(sub(point(b), pa), sub(point(c), pa));
@@ -171,8 +168,7 @@ private:
 
     // Sample i on the nearer of a quad's two flipped triangles (the first on a tie).
     Landing nearer(uint32_t i, const Quad& q) const {
-        const float* s = &in_.positions[3 * size_t(i)];
-        const Vec3 p{s[0], s[1], s[2]};
+        const Vec3 p = point_of(in_.positions, i);
         const ClosestPoint c1 = closest_on_triangle(p, point(q.a), point(q.d), point(q.c));
         const ClosestPoint c2 = closest_on_triangle(p, point(q.d), point(q.b), point(q.c));
         const Vec3 e1 = sub(c1.point, p), e2 = sub(c2.point, p);
@@ -181,10 +177,9 @@ private:
 
     // Sample i's error where it lands on the triangle of corners k with weights w.
     double cost(uint32_t i, const Corners& k, const std::array<double, 3>& w) const {
-        const float* s = &in_.positions[3 * size_t(i)];
         const Vec3 at =
             add(add(scale(point(k[0]), w[0]), scale(point(k[1]), w[1])), scale(point(k[2]), w[2]));
-        const Vec3 e = sub(at, Vec3{s[0], s[1], s[2]});
+        const Vec3 e = sub(at, point_of(in_.positions, i));
         double sum = input_.distance_weight * dot(e, e);
         for (size_t j = 0; j < input_.components.size(); ++j) {
             const auto [field, component] = input_.components[j];

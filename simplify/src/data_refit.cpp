@@ -12,10 +12,6 @@
 namespace ddsimp::detail {
 namespace {
 
-Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
-    return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
-}
-
 // Offsets of a compressed list: begin[i] .. begin[i + 1] for each i, from counts in begin[1..].
 void prefix_sum(std::vector<uint32_t>& begin) {
     for (size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];

@@ -59,6 +59,10 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 inline double norm(const Vec3& a) {
     return std::sqrt(dot(a, a));
 }
+// Vertex v of a surface's positions (three floats per vertex).
+inline Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
+    return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
+}
 // The point of triangle (a, b, c) closest to p, and its barycentric weights.
 struct ClosestPoint {
     Vec3 point;
