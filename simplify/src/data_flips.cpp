@@ -1,4 +1,4 @@
-// Edge flips of a fitted level by the error of the samples landed on each quad.
+// Edge flips of a level by the error of the samples landed on each quad.
 #include "data_flips.h"
 
 #include "working_mesh.h"

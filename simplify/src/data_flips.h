@@ -1,6 +1,6 @@
-// A fitted level's edges flipped where the other diagonal of their quad fits the input's samples
-// better: a data-dependent triangulation of the level's vertices (docs/algorithm.md, "Edge
-// collapse": the data at the new point).
+// A level's edges flipped where the other diagonal of their quad fits the input's samples better:
+// a data-dependent triangulation of the level's vertices (docs/algorithm.md, "Edge collapse": the
+// data at the new point; "Vertex removal").
 #pragma once
 
 #include "data_refit.h"
@@ -21,8 +21,9 @@ inline constexpr double kFlipFlatDegrees = 20;
 // the new two. A sweep after the first tries only the edges around the last one's flips, until
 // a sweep flips nothing: every flip lowers the samples' total error, so none is undone.
 // The topology stays: an edge is flipped only if it has exactly two triangles, oriented alike,
-// and its quad's other diagonal is no edge yet. `forward` (per input vertex, as refit_data lands
-// it) follows the samples it moves. Returns whether any edge was flipped. The same bytes for any
+// and its quad's other diagonal is no edge yet. `forward` (per input vertex, where it lies on
+// the level: refit_data's landing, or the triangle that covers a removed vertex) follows the
+// samples it moves; of `input`, only the surface, components, weights and flat_cos are read. Returns whether any edge was flipped. The same bytes for any
 // number of threads: the threads only find the edges worth trying, which are then tried and
 // flipped one by one in order.
 bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,

@@ -80,17 +80,16 @@ struct Stars {
 
 // Each input vertex lands on the closest point of its owner's star (first triangle on a tie); if
 // that is on the star's rim, the closest point may lie beyond it, so the stars of the rim's
-// vertices are searched too. Only the vertices whose owner is marked in `only`, if given.
+// vertices are searched too.
 void land_forward(const RefitInput& input, const Surface& level, const Stars& stars,
-                  const std::vector<uint8_t>* only, std::vector<Landing>& forward,
-                  Parallel& parallel) {
+                  std::vector<Landing>& forward, Parallel& parallel) {
     const Surface& in = *input.surface;
     auto corner_point = [&](uint32_t t, int c) {
         return point_of(level.positions, level.triangles[3 * size_t(t) + size_t(c)]);
     };
     parallel.for_each(input.vertices, [&](size_t i) {
         const uint32_t k = input.owner[i];
-        if (k == kNoOwner || (only && !(*only)[k])) return;
+        if (k == kNoOwner) return;
         forward[i] = Landing{};
         const Vec3 p = point_of(in.positions, uint32_t(i));
         double best = std::numeric_limits<double>::infinity();
@@ -316,7 +315,7 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     if (input.components.empty() || level.vertex_count() == 0) return;
     Stars stars(level);
     std::vector<Landing> forward(input.vertices);
-    land_forward(input, level, stars, nullptr, forward, parallel);
+    land_forward(input, level, stars, forward, parallel);
     const std::vector<Landing> backward = land_backward(input, level, parallel);
     fit_values(input, stars, forward, backward, level, parallel);
     if (!flip_edges_for_data(input, forward, level, parallel)) return;

@@ -7,6 +7,7 @@
 // - Vertex removal keeps the vertices and moves the surface over the removed ones: each removed
 //   input vertex is measured against the triangle that covers it.
 #include "error_quadric.h"
+#include "removal_cover.h"
 #include "working_mesh.h"
 
 #include <algorithm>
@@ -24,7 +25,6 @@ using detail::scale;
 using detail::sub;
 using detail::Vec3;
 
-constexpr uint32_t kDead = 0xffffffffu;
 // Vertex removal: distances (in diagonals) closer than this are equal, ties of rounding.
 constexpr double kTie = 1e-12;
 
@@ -236,75 +236,33 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
         return;
     }
     // Vertex removal keeps every other vertex in place: what moves is the surface over the
-    // removed ones. Each removed input vertex is followed to the triangle that covers it (the
-    // closest of those that replaced its star), and measured against the point of that triangle
-    // nearest to it. When a later removal rewrites that triangle, its vertices are measured again
-    // against the new ones. Triangles that are equally near (within rounding: the point is on
-    // their shared edge or corner) go by their corners' ids, so that which one is followed is
-    // part of the definition, not of the order of the record's writes.
-    std::vector<uint32_t> slots = base_triangles_;
-    std::vector<uint32_t> head(slots.size() / 3, kDead), next(input_vertices_, kDead);
-    std::vector<uint32_t> before, after, points;
+    // removed ones. Each removed input vertex is measured against the point nearest to it of the
+    // triangle that covers it (removal_cover.h), again whenever a later removal rewrites that
+    // triangle.
+    detail::RemovalCover cover(base_triangles_, input_vertices_,
+                               [&](uint32_t v) { return measure.point(v); }, kTie);
     for (size_t i = 0; i < operations(); ++i) {
-        before.clear(), after.clear(), points.clear();
-        const uint32_t* end = writes_.data() + write_begin_[i + 1];
-        for (const uint32_t* w = writes_.data() + write_begin_[i]; w < end; w += 4) {
-            const size_t at = 3 * size_t(w[0]);
-            if (at >= slots.size()) slots.resize(at + 3, kDead), head.resize(at / 3 + 1, kDead);
-            if (slots[at] != kDead) before.insert(before.end(), &slots[at], &slots[at] + 3);
-            for (uint32_t p = head[w[0]]; p != kDead; p = next[p]) points.push_back(p);
-            head[w[0]] = kDead;
-            if (w[1] != kDead) after.push_back(w[0]);
-            std::copy(w + 1, w + 4, &slots[at]);
-        }
-        // The removed vertex: named by the star's old triangles, not by the new ones.
-        std::sort(before.begin(), before.end());
-        before.erase(std::unique(before.begin(), before.end()), before.end());
-        for (uint32_t v : before) {
-            bool kept = false;
-            for (uint32_t t : after)
-                kept = kept || slots[3 * t] == v || slots[3 * t + 1] == v || slots[3 * t + 2] == v;
-            if (!kept) points.push_back(v);
-        }
-        for (uint32_t p : points) {
-            if (after.empty()) break;
-            const Vec3 x = measure.point(p);
-            double best = INFINITY;
-            uint32_t cover = kDead;
-            std::array<double, 3> weights{};
-            auto corners = [&](uint32_t t) { // sorted
-                std::array<uint32_t, 3> c{slots[3 * t], slots[3 * t + 1], slots[3 * t + 2]};
-                std::sort(c.begin(), c.end());
-                return c;
-            };
-            for (uint32_t t : after) {
-                const uint32_t* c = &slots[3 * size_t(t)];
-                const Vec3 a = measure.point(c[0]), b = measure.point(c[1]),
-                           d = measure.point(c[2]);
-                const auto w = detail::closest_on_triangle(x, a, b, d).weights;
-                const Vec3 q =
-                    detail::add(detail::add(scale(a, w[0]), scale(b, w[1])), scale(d, w[2]));
-                const double distance = norm(sub(q, x));
-                const bool tie = std::abs(distance - best) <= kTie;
-                if (tie ? corners(t) < corners(cover) : distance < best)
-                    best = distance, cover = t, weights = w;
-            }
-            next[p] = head[cover], head[cover] = p;
-            const uint32_t* c = &slots[3 * size_t(cover)];
-            double squares = 0;
-            if (m > 0) {
-                measure.data(p, s.data());
-                for (int k = 0; k < 3; ++k) measure.data(c[k], corner.data() + k * m);
-                for (size_t j = 0; j < m; ++j) {
-                    const double d = s[j] - weights[0] * corner[j] - weights[1] * corner[m + j] -
-                                     weights[2] * corner[2 * m + j];
-                    squares += d * d;
-                }
-            }
-            // Below 1e-9 (far under a float's resolution): rounding of a point on its plane.
-            const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
-            count({best > 1e-9 ? best : 0.0, misfit > 1e-9 ? misfit : 0.0});
-        }
+        const uint32_t* writes = writes_.data();
+        cover.apply(writes + write_begin_[i], writes + write_begin_[i + 1],
+                    [&](uint32_t p, double distance) {
+                        const uint32_t* c = &cover.slots()[3 * size_t(cover.cover(p))];
+                        const std::array<double, 3>& weights = cover.weights(p);
+                        double squares = 0;
+                        if (m > 0) {
+                            measure.data(p, s.data());
+                            for (int k = 0; k < 3; ++k) measure.data(c[k], corner.data() + k * m);
+                            for (size_t j = 0; j < m; ++j) {
+                                const double d = s[j] - weights[0] * corner[j] -
+                                                 weights[1] * corner[m + j] -
+                                                 weights[2] * corner[2 * m + j];
+                                squares += d * d;
+                            }
+                        }
+                        // Below 1e-9 (far under a float's resolution): rounding of a point on
+                        // its plane.
+                        const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
+                        count({distance > 1e-9 ? distance : 0.0, misfit > 1e-9 ? misfit : 0.0});
+                    });
         level_error_[2 * i] = float(geometric), level_error_[2 * i + 1] = float(data);
     }
 }

@@ -1,5 +1,6 @@
 // Replaying a prefix of the recorded operations: every level of one run, without re-running.
-#include "data_refit.h"
+#include "data_flips.h"
+#include "removal_cover.h"
 #include "simplifier.h"
 #include "validate.h"
 
@@ -130,9 +131,12 @@ Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
-    if (fit_data && strategy_ == Strategy::EdgeCollapse && !refit_components_.empty() &&
-        operations > 0)
-        refit(operations, index, out);
+    if (fit_data && !refit_components_.empty() && operations > 0) {
+        if (strategy_ == Strategy::EdgeCollapse)
+            refit(operations, index, out);
+        else
+            flip_removal_level(operations, out);
+    }
     return out;
 }
 
@@ -165,6 +169,48 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
         if (index[v] != detail::kNoOwner && !locked[v]) input.free[index[v]] = 1;
     detail::Parallel parallel(threads_);
     detail::refit_data(input, level, parallel);
+}
+
+void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) const {
+    // Each removed input vertex lands on the level's triangle that covers it, in diagonals with
+    // ties as the level's error measure has them (level_error.cpp).
+    const std::vector<float>& positions = vertices_.positions;
+    std::array<float, 3> low{}, high{};
+    for (int k = 0; k < 3; ++k) {
+        low[k] = high[k] = positions.empty() ? 0 : positions[size_t(k)];
+        for (size_t v = 0; v < input_vertices_; ++v)
+            low[k] = std::min(low[k], positions[3 * v + size_t(k)]),
+            high[k] = std::max(high[k], positions[3 * v + size_t(k)]);
+    }
+    const double diagonal = detail::norm(detail::sub(detail::Vec3{high[0], high[1], high[2]},
+                                                     detail::Vec3{low[0], low[1], low[2]}));
+    constexpr double kTie = 1e-12;
+    detail::RemovalCover cover(base_triangles_, input_vertices_,
+                               [&](uint32_t v) { return detail::point_of(positions, v); },
+                               kTie * diagonal);
+    for (size_t i = 0; i < operations; ++i)
+        cover.apply(writes_.data() + write_begin_[i], writes_.data() + write_begin_[i + 1],
+                    [](uint32_t, double) {});
+    // The level's triangles are the live slots, in slot order.
+    const std::vector<uint32_t>& slots = cover.slots();
+    std::vector<uint32_t> triangle_of(slots.size() / 3, detail::kNoOwner);
+    for (uint32_t t = 0, live = 0; t < triangle_of.size(); ++t)
+        if (slots[3 * size_t(t)] != detail::RemovalCover<int>::kDead) triangle_of[t] = live++;
+    std::vector<detail::Landing> landed(input_vertices_);
+    for (uint32_t v = 0; v < input_vertices_; ++v)
+        if (const uint32_t t = cover.cover(v); t != detail::kNoOwner)
+            landed[v] = {triangle_of[t], cover.weights(v)};
+
+    detail::RefitInput input;
+    input.surface = &vertices_;
+    input.vertices = input_vertices_;
+    input.triangles = &base_triangles_;
+    input.components = refit_components_;
+    input.data_weight = refit_data_weight_;
+    input.distance_weight = refit_distance_weight_;
+    input.flat_cos = refit_flat_cos_;
+    detail::Parallel parallel(threads_);
+    detail::flip_edges_for_data(input, landed, level, parallel);
 }
 
 } // namespace ddsimp

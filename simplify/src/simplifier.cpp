@@ -93,7 +93,9 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (quadric_terms_ || least_error_)
         quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity,
                         parallel_);
-    if (collapse && least_data()) { // the level's points take these components' least squares
+    // Edge collapse's levels fit these components' least squares to their new points; both
+    // strategies' levels flip their edges where these components fit the input better.
+    if (collapse ? least_data() : quadric_terms_ && quadrics_.components > 0) {
         for (size_t j = 0; j < quadrics_.components; ++j) {
             if (!quadrics_.continuous[j]) continue;
             uint32_t field = 0, first = 0; // the field of data-record offset quadrics_.offset[j]
@@ -109,7 +111,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
             geometry_weight() * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
-        if (!mesh_.locked.empty()) {
+        if (collapse && !mesh_.locked.empty()) {
             record_.locked_input_.resize(n);
             for (uint32_t v = 0; v < n; ++v) record_.locked_input_[v] = mesh_.locked[rank_[v]];
         }

@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 24;
+inline constexpr int algorithm_version = 25;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -298,8 +298,9 @@ public:
     static ProgressiveRecord build(const Surface& input, const Options& options);
 
     // The surface after the first `operations` operations (0 = the repaired input). With edge
-    // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level
-    // and, where the surface is nearly flat, its edges flipped where the data fits better.
+    // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level.
+    // With that, or with vertex removal and the error quadrics, where the surface is nearly flat,
+    // its edges are flipped where the data fits better (not at alpha = 1).
     Surface after(size_t operations) const;
     // The same level with each vertex's data as vertices() carries it, never fitted, nor its
     // edges flipped: what a refinement stream (vertices() and indexed_triangles) shows, level
@@ -354,9 +355,10 @@ private:
     size_t input_vertices_ = 0;
     // Edge collapse with DataPlacement::LeastError: the data components (field, component) that
     // after() fits to the input over the whole level (data_refit.h), and which input vertices
-    // are locked (empty: none), whose data and that of the points placed on them stay; what a
-    // flip of the level's edges weighs (the weight of each component's squared difference and
-    // of a squared distance) and the least cosine between the normals it flips across.
+    // are locked (empty: none), whose data and that of the points placed on them stay. With that,
+    // or vertex removal with the error quadrics: the components a flip of the level's edges
+    // weighs (data_flips.h), the weight of each one's squared difference and of a squared
+    // distance, and the least cosine between the normals it flips across.
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
     std::vector<double> refit_data_weight_;
@@ -364,10 +366,13 @@ private:
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
+
     // after() and after_as_recorded().
     Surface level_after(size_t operations, bool fit_data) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`).
     void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
+    // Vertex removal: flips `level`'s (after(operations)) edges where the data fits better.
+    void flip_removal_level(size_t operations, Surface& level) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;
