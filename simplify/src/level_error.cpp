@@ -239,30 +239,35 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
     // removed ones. Each removed input vertex is measured against the point nearest to it of the
     // triangle that covers it (removal_cover.h), again whenever a later removal rewrites that
     // triangle.
-    detail::RemovalCover cover(base_triangles_, input_vertices_,
-                               [&](uint32_t v) { return measure.point(v); }, kTie);
+    const detail::RemovalCover cover(base_triangles_, input_vertices_, write_begin_, writes_,
+                                     operations());
+    std::vector<std::pair<double, double>> worst(operations()); // per removal, of its landings
+    auto point = [&](uint32_t v) { return measure.point(v); };
+    for (uint32_t p = 0; p < input_vertices_; ++p)
+        cover.follow(p, point, kTie,
+                     [&](uint32_t i, uint32_t w, const std::array<double, 3>& weights,
+                         double distance) {
+                         const uint32_t* c = &writes_[w + 1];
+                         double squares = 0;
+                         if (m > 0) {
+                             measure.data(p, s.data());
+                             for (int k = 0; k < 3; ++k)
+                                 measure.data(c[k], corner.data() + k * m);
+                             for (size_t j = 0; j < m; ++j) {
+                                 const double d = s[j] - weights[0] * corner[j] -
+                                                  weights[1] * corner[m + j] -
+                                                  weights[2] * corner[2 * m + j];
+                                 squares += d * d;
+                             }
+                         }
+                         // Below 1e-9 (far under a float's resolution): rounding of a point on
+                         // its plane.
+                         const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
+                         worst[i].first = std::max(worst[i].first, distance > 1e-9 ? distance : 0.0);
+                         worst[i].second = std::max(worst[i].second, misfit > 1e-9 ? misfit : 0.0);
+                     });
     for (size_t i = 0; i < operations(); ++i) {
-        const uint32_t* writes = writes_.data();
-        cover.apply(writes + write_begin_[i], writes + write_begin_[i + 1],
-                    [&](uint32_t p, double distance) {
-                        const uint32_t* c = &cover.slots()[3 * size_t(cover.cover(p))];
-                        const std::array<double, 3>& weights = cover.weights(p);
-                        double squares = 0;
-                        if (m > 0) {
-                            measure.data(p, s.data());
-                            for (int k = 0; k < 3; ++k) measure.data(c[k], corner.data() + k * m);
-                            for (size_t j = 0; j < m; ++j) {
-                                const double d = s[j] - weights[0] * corner[j] -
-                                                 weights[1] * corner[m + j] -
-                                                 weights[2] * corner[2 * m + j];
-                                squares += d * d;
-                            }
-                        }
-                        // Below 1e-9 (far under a float's resolution): rounding of a point on
-                        // its plane.
-                        const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
-                        count({distance > 1e-9 ? distance : 0.0, misfit > 1e-9 ? misfit : 0.0});
-                    });
+        count(worst[i]);
         level_error_[2 * i] = float(geometric), level_error_[2 * i + 1] = float(data);
     }
 }

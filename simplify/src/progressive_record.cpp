@@ -185,21 +185,25 @@ void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) co
     const double diagonal = detail::norm(detail::sub(detail::Vec3{high[0], high[1], high[2]},
                                                      detail::Vec3{low[0], low[1], low[2]}));
     constexpr double kTie = 1e-12;
-    detail::RemovalCover cover(base_triangles_, input_vertices_,
-                               [&](uint32_t v) { return detail::point_of(positions, v); },
-                               kTie * diagonal);
-    for (size_t i = 0; i < operations; ++i)
-        cover.apply(writes_.data() + write_begin_[i], writes_.data() + write_begin_[i + 1],
-                    [](uint32_t, double) {});
-    // The level's triangles are the live slots, in slot order.
-    const std::vector<uint32_t>& slots = cover.slots();
-    std::vector<uint32_t> triangle_of(slots.size() / 3, detail::kNoOwner);
+    const detail::RemovalCover cover(base_triangles_, input_vertices_, write_begin_, writes_,
+                                     operations);
+    // The level's triangles are the live slots, in slot order; the write that covers a point is
+    // the last to its slot.
+    std::vector<uint32_t> triangle_of(base_triangles_.size() / 3, 0);
+    for (uint32_t w = 0; w < write_begin_[operations]; w += 4)
+        triangle_of[writes_[w]] = writes_[w + 1] == detail::RemovalCover::kNone;
     for (uint32_t t = 0, live = 0; t < triangle_of.size(); ++t)
-        if (slots[3 * size_t(t)] != detail::RemovalCover<int>::kDead) triangle_of[t] = live++;
+        triangle_of[t] = triangle_of[t] ? detail::kNoOwner : live++;
     std::vector<detail::Landing> landed(input_vertices_);
-    for (uint32_t v = 0; v < input_vertices_; ++v)
-        if (const uint32_t t = cover.cover(v); t != detail::kNoOwner)
-            landed[v] = {triangle_of[t], cover.weights(v)};
+    detail::Parallel parallel(threads_);
+    auto point = [&](uint32_t v) { return detail::point_of(positions, v); };
+    parallel.for_each(input_vertices_, [&](size_t p) {
+        std::array<double, 3> last{};
+        const uint32_t w = cover.follow(uint32_t(p), point, kTie * diagonal,
+                                        [&](uint32_t, uint32_t, const std::array<double, 3>& weights,
+                                            double) { last = weights; });
+        if (w != detail::RemovalCover::kNone) landed[p] = {triangle_of[writes_[w]], last};
+    });
 
     detail::RefitInput input;
     input.surface = &vertices_;
@@ -209,7 +213,6 @@ void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) co
     input.data_weight = refit_data_weight_;
     input.distance_weight = refit_distance_weight_;
     input.flat_cos = refit_flat_cos_;
-    detail::Parallel parallel(threads_);
     detail::flip_edges_for_data(input, landed, level, parallel);
 }
 
