@@ -23,9 +23,9 @@ inline constexpr double kFlipFlatDegrees = 20;
 // The topology stays: an edge is flipped only if it has exactly two triangles, oriented alike,
 // and its quad's other diagonal is no edge yet. `forward` (per input vertex, where it lies on
 // the level: refit_data's landing, or the triangle that covers a removed vertex) follows the
-// samples it moves; of `input`, only the surface, components, weights and flat_cos are read. Returns whether any edge was flipped. The same bytes for any
-// number of threads: the threads only find the edges worth trying, which are then tried and
-// flipped one by one in order.
+// samples it moves; of `input`, only the surface, components, weights and flat_cos are read.
+// Returns whether any edge was flipped. The same bytes for any number of threads: the threads only
+// find the edges worth trying, which are then tried and flipped one by one in order.
 bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,
                          Parallel& parallel);
 

@@ -244,28 +244,27 @@ void ProgressiveRecord::measure_errors(const std::vector<std::string>& gradient_
     std::vector<std::pair<double, double>> worst(operations()); // per removal, of its landings
     auto point = [&](uint32_t v) { return measure.point(v); };
     for (uint32_t p = 0; p < input_vertices_; ++p)
-        cover.follow(p, point, kTie,
-                     [&](uint32_t i, uint32_t w, const std::array<double, 3>& weights,
-                         double distance) {
-                         const uint32_t* c = &writes_[w + 1];
-                         double squares = 0;
-                         if (m > 0) {
-                             measure.data(p, s.data());
-                             for (int k = 0; k < 3; ++k)
-                                 measure.data(c[k], corner.data() + k * m);
-                             for (size_t j = 0; j < m; ++j) {
-                                 const double d = s[j] - weights[0] * corner[j] -
-                                                  weights[1] * corner[m + j] -
-                                                  weights[2] * corner[2 * m + j];
-                                 squares += d * d;
-                             }
-                         }
-                         // Below 1e-9 (far under a float's resolution): rounding of a point on
-                         // its plane.
-                         const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
-                         worst[i].first = std::max(worst[i].first, distance > 1e-9 ? distance : 0.0);
-                         worst[i].second = std::max(worst[i].second, misfit > 1e-9 ? misfit : 0.0);
-                     });
+        cover.follow(
+            p, point, kTie,
+            [&](uint32_t i, uint32_t w, const std::array<double, 3>& weights, double distance) {
+                const uint32_t* c = &writes_[w + 1];
+                double squares = 0;
+                if (m > 0) {
+                    measure.data(p, s.data());
+                    for (int k = 0; k < 3; ++k) measure.data(c[k], corner.data() + k * m);
+                    for (size_t j = 0; j < m; ++j) {
+                        const double d = s[j] - weights[0] * corner[j] -
+                                         weights[1] * corner[m + j] -
+                                         weights[2] * corner[2 * m + j];
+                        squares += d * d;
+                    }
+                }
+                // Below 1e-9 (far under a float's resolution): rounding of a point on
+                // its plane.
+                const double misfit = m > 0 ? std::sqrt(squares / double(m)) : 0.0;
+                worst[i].first = std::max(worst[i].first, distance > 1e-9 ? distance : 0.0);
+                worst[i].second = std::max(worst[i].second, misfit > 1e-9 ? misfit : 0.0);
+            });
     for (size_t i = 0; i < operations(); ++i) {
         count(worst[i]);
         level_error_[2 * i] = float(geometric), level_error_[2 * i + 1] = float(data);

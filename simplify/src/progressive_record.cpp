@@ -182,8 +182,8 @@ void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) co
             low[k] = std::min(low[k], positions[3 * v + size_t(k)]),
             high[k] = std::max(high[k], positions[3 * v + size_t(k)]);
     }
-    const double diagonal = detail::norm(detail::sub(detail::Vec3{high[0], high[1], high[2]},
-                                                     detail::Vec3{low[0], low[1], low[2]}));
+    const double diagonal = detail::norm(
+        detail::sub(detail::Vec3{high[0], high[1], high[2]}, detail::Vec3{low[0], low[1], low[2]}));
     constexpr double kTie = 1e-12;
     const detail::RemovalCover cover(base_triangles_, input_vertices_, write_begin_, writes_,
                                      operations);
@@ -199,9 +199,11 @@ void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) co
     auto point = [&](uint32_t v) { return detail::point_of(positions, v); };
     parallel.for_each(input_vertices_, [&](size_t p) {
         std::array<double, 3> last{};
-        const uint32_t w = cover.follow(uint32_t(p), point, kTie * diagonal,
-                                        [&](uint32_t, uint32_t, const std::array<double, 3>& weights,
-                                            double) { last = weights; });
+        const uint32_t w =
+            cover.follow(uint32_t(p), point, kTie * diagonal,
+                         [&](uint32_t, uint32_t, const std::array<double, 3>& weights, double) {
+                             last = weights;
+                         });
         if (w != detail::RemovalCover::kNone) landed[p] = {triangle_of[writes_[w]], last};
     });
 

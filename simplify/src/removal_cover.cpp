@@ -21,18 +21,20 @@ RemovalCover::RemovalCover(const std::vector<uint32_t>& triangles, size_t vertic
     for (uint32_t i = 0; i < operations; ++i) {
         const uint32_t* old = nullptr;
         for (uint32_t w = write_begin[i]; w < write_begin[i + 1] && !old; w += 4) {
-            const uint32_t p = previous[w / 4];
-            old = p != kNone ? &writes[p + 1]
-                  : 3 * size_t(writes[w]) < triangles.size() ? &triangles[3 * size_t(writes[w])]
-                                                             : nullptr;
+            const size_t slot = writes[w];
+            if (const uint32_t p = previous[w / 4]; p != kNone)
+                old = &writes[p + 1];
+            else if (3 * slot < triangles.size())
+                old = &triangles[3 * slot];
             if (old && old[0] == kNone) old = nullptr; // a retired slot
         }
         if (!old) continue;
         for (int k = 0; k < 3; ++k) {
             bool kept = false;
             for (uint32_t w = write_begin[i]; w < write_begin[i + 1] && !kept; w += 4)
-                kept = writes[w + 1] != kNone &&
-                       (writes[w + 1] == old[k] || writes[w + 2] == old[k] || writes[w + 3] == old[k]);
+                kept =
+                    writes[w + 1] != kNone &&
+                    (writes[w + 1] == old[k] || writes[w + 2] == old[k] || writes[w + 3] == old[k]);
             if (!kept) removed_at_[old[k]] = i;
         }
     }
