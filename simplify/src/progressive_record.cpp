@@ -8,6 +8,51 @@
 
 namespace ddsimp {
 
+namespace {
+
+// Vertex removal: per input vertex, where it lies on the level after `operations` removals (none
+// for a kept one): on the level's triangle that covers it (removal_cover.h), in diagonals with
+// ties as the level's error measure has them (level_error.cpp).
+std::vector<detail::Landing> covered_landings(const std::vector<float>& positions,
+                                              size_t input_vertices,
+                                              const std::vector<uint32_t>& triangles,
+                                              const std::vector<uint32_t>& write_begin,
+                                              const std::vector<uint32_t>& writes,
+                                              size_t operations, detail::Parallel& parallel) {
+    std::array<float, 3> low{}, high{};
+    for (int k = 0; k < 3; ++k) {
+        low[k] = high[k] = positions.empty() ? 0 : positions[size_t(k)];
+        for (size_t v = 0; v < input_vertices; ++v)
+            low[k] = std::min(low[k], positions[3 * v + size_t(k)]),
+            high[k] = std::max(high[k], positions[3 * v + size_t(k)]);
+    }
+    const double diagonal = detail::norm(
+        detail::sub(detail::Vec3{high[0], high[1], high[2]}, detail::Vec3{low[0], low[1], low[2]}));
+    constexpr double kTie = 1e-12;
+    const detail::RemovalCover cover(triangles, input_vertices, write_begin, writes, operations);
+    // The level's triangles are the live slots, in slot order; the write that covers a point is
+    // the last to its slot.
+    std::vector<uint32_t> triangle_of(triangles.size() / 3, 0);
+    for (uint32_t w = 0; w < write_begin[operations]; w += 4)
+        triangle_of[writes[w]] = writes[w + 1] == detail::RemovalCover::kNone;
+    for (uint32_t t = 0, live = 0; t < triangle_of.size(); ++t)
+        triangle_of[t] = triangle_of[t] ? detail::kNoOwner : live++;
+    std::vector<detail::Landing> landed(input_vertices);
+    auto point = [&](uint32_t v) { return detail::point_of(positions, v); };
+    parallel.for_each(input_vertices, [&](size_t p) {
+        std::array<double, 3> last{};
+        const uint32_t w =
+            cover.follow(uint32_t(p), point, kTie * diagonal,
+                         [&](uint32_t, uint32_t, const std::array<double, 3>& weights, double) {
+                             last = weights;
+                         });
+        if (w != detail::RemovalCover::kNone) landed[p] = {triangle_of[writes[w]], last};
+    });
+    return landed;
+}
+
+} // namespace
+
 ProgressiveRecord ProgressiveRecord::build(const Surface& input, const Options& options) {
     return run(input, options, true);
 }
@@ -131,18 +176,12 @@ Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
-    if (fit_data && !refit_components_.empty() && operations > 0) {
-        if (strategy_ == Strategy::EdgeCollapse)
-            refit(operations, index, out);
-        else
-            flip_removal_level(operations, out);
-    }
+    if (fit_data && !refit_components_.empty() && operations > 0) refit(operations, index, out);
     return out;
 }
 
 void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& index,
                               Surface& level) const {
-    const std::vector<uint32_t> map = collapse_map(operations);
     detail::RefitInput input;
     input.surface = &vertices_;
     input.vertices = input_vertices_;
@@ -151,6 +190,15 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.data_weight = refit_data_weight_;
     input.distance_weight = refit_distance_weight_;
     input.flat_cos = refit_flat_cos_;
+    detail::Parallel parallel(threads_);
+    if (strategy_ == Strategy::VertexRemoval) { // the vertices and their data stay
+        std::vector<detail::Landing> landed =
+            covered_landings(vertices_.positions, input_vertices_, base_triangles_, write_begin_,
+                             writes_, operations, parallel);
+        detail::flip_edges_for_data(input, landed, level, parallel);
+        return;
+    }
+    const std::vector<uint32_t> map = collapse_map(operations);
     // index marks the ids the level does not keep with 0xffffffff, which is kNoOwner: an input
     // vertex no triangle uses has no owner.
     static_assert(detail::kNoOwner == 0xffffffffu);
@@ -167,55 +215,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.free.assign(level.vertex_count(), 0);
     for (size_t v = input_vertices_; v < map.size(); ++v)
         if (index[v] != detail::kNoOwner && !locked[v]) input.free[index[v]] = 1;
-    detail::Parallel parallel(threads_);
     detail::refit_data(input, level, parallel);
-}
-
-void ProgressiveRecord::flip_removal_level(size_t operations, Surface& level) const {
-    // Each removed input vertex lands on the level's triangle that covers it, in diagonals with
-    // ties as the level's error measure has them (level_error.cpp).
-    const std::vector<float>& positions = vertices_.positions;
-    std::array<float, 3> low{}, high{};
-    for (int k = 0; k < 3; ++k) {
-        low[k] = high[k] = positions.empty() ? 0 : positions[size_t(k)];
-        for (size_t v = 0; v < input_vertices_; ++v)
-            low[k] = std::min(low[k], positions[3 * v + size_t(k)]),
-            high[k] = std::max(high[k], positions[3 * v + size_t(k)]);
-    }
-    const double diagonal = detail::norm(
-        detail::sub(detail::Vec3{high[0], high[1], high[2]}, detail::Vec3{low[0], low[1], low[2]}));
-    constexpr double kTie = 1e-12;
-    const detail::RemovalCover cover(base_triangles_, input_vertices_, write_begin_, writes_,
-                                     operations);
-    // The level's triangles are the live slots, in slot order; the write that covers a point is
-    // the last to its slot.
-    std::vector<uint32_t> triangle_of(base_triangles_.size() / 3, 0);
-    for (uint32_t w = 0; w < write_begin_[operations]; w += 4)
-        triangle_of[writes_[w]] = writes_[w + 1] == detail::RemovalCover::kNone;
-    for (uint32_t t = 0, live = 0; t < triangle_of.size(); ++t)
-        triangle_of[t] = triangle_of[t] ? detail::kNoOwner : live++;
-    std::vector<detail::Landing> landed(input_vertices_);
-    detail::Parallel parallel(threads_);
-    auto point = [&](uint32_t v) { return detail::point_of(positions, v); };
-    parallel.for_each(input_vertices_, [&](size_t p) {
-        std::array<double, 3> last{};
-        const uint32_t w =
-            cover.follow(uint32_t(p), point, kTie * diagonal,
-                         [&](uint32_t, uint32_t, const std::array<double, 3>& weights, double) {
-                             last = weights;
-                         });
-        if (w != detail::RemovalCover::kNone) landed[p] = {triangle_of[writes_[w]], last};
-    });
-
-    detail::RefitInput input;
-    input.surface = &vertices_;
-    input.vertices = input_vertices_;
-    input.triangles = &base_triangles_;
-    input.components = refit_components_;
-    input.data_weight = refit_data_weight_;
-    input.distance_weight = refit_distance_weight_;
-    input.flat_cos = refit_flat_cos_;
-    detail::flip_edges_for_data(input, landed, level, parallel);
 }
 
 } // namespace ddsimp

@@ -143,19 +143,31 @@ TEST(DataFlips, SameBytesOnAnyThreadCount) {
     }
 }
 
-// Through the library: a flat surface with a crease in its data, reduced by edge collapse with
-// least-error data. after() flips some of the recorded level's edges (after_as_recorded() has the
-// same vertices), keeps the topology, and gives the same bytes on any number of threads.
-TEST(DataFlips, InTheLevelsOfARun) {
+// A flat grid with a crease in its data and a wave along it.
+Surface creased_grid() {
     Surface in = grid(40, 40);
     add_field(in, "f", 1, [](const Vec3& p) {
         return std::vector<double>{crease(p) + 0.2 * std::sin(7 * p[0]) * p[1]};
     });
+    return in;
+}
+
+// A record of every operation of `strategy` at alpha = 0, on one thread.
+Options whole_run(Strategy strategy) {
     Options o;
-    o.strategy = Strategy::EdgeCollapse;
+    o.strategy = strategy;
     o.alpha = 0;
     o.keep_fraction = 0;
     o.threads = 1;
+    return o;
+}
+
+// Through the library: a flat surface with a crease in its data, reduced by edge collapse with
+// least-error data. after() flips some of the recorded level's edges (after_as_recorded() has the
+// same vertices), keeps the topology, and gives the same bytes on any number of threads.
+TEST(DataFlips, InTheLevelsOfARun) {
+    const Surface in = creased_grid();
+    Options o = whole_run(Strategy::EdgeCollapse);
     const ProgressiveRecord record = ProgressiveRecord::build(in, o);
     const size_t operations = record.operations_for(in.triangle_count() / 10);
     const Surface flipped = record.after(operations),
@@ -175,15 +187,8 @@ TEST(DataFlips, InTheLevelsOfARun) {
 // recorded level only, where the data fits better, keeps the topology, and gives the same bytes
 // on any number of threads. At alpha = 1 the data weighs nothing: no edge is flipped.
 TEST(DataFlips, InTheLevelsOfAVertexRemovalRun) {
-    Surface in = grid(40, 40);
-    add_field(in, "f", 1, [](const Vec3& p) {
-        return std::vector<double>{crease(p) + 0.2 * std::sin(7 * p[0]) * p[1]};
-    });
-    Options o;
-    o.strategy = Strategy::VertexRemoval;
-    o.alpha = 0;
-    o.keep_fraction = 0;
-    o.threads = 1;
+    const Surface in = creased_grid();
+    Options o = whole_run(Strategy::VertexRemoval);
     const ProgressiveRecord record = ProgressiveRecord::build(in, o);
     const size_t operations = record.operations_for(in.triangle_count() / 10);
     const Surface flipped = record.after(operations),
@@ -227,12 +232,7 @@ TEST(DataFlips, KeepNonManifoldEdgesInTheLevelsOfARun) {
     });
     const Topology before = analyze_topology(in);
     for (Strategy strategy : {Strategy::EdgeCollapse, Strategy::VertexRemoval}) {
-        Options o;
-        o.strategy = strategy;
-        o.alpha = 0;
-        o.keep_fraction = 0;
-        o.threads = 1;
-        const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+        const ProgressiveRecord record = ProgressiveRecord::build(in, whole_run(strategy));
         size_t flipped = 0;
         for (size_t keep : {2, 4, 8, 16, 32}) {
             const size_t operations = record.operations_for(in.triangle_count() * keep / 100);

@@ -369,10 +369,9 @@ private:
 
     // after() and after_as_recorded().
     Surface level_after(size_t operations, bool fit_data) const;
-    // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`).
+    // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`; edge
+    // collapse) and flips its edges where the data fits better (both strategies).
     void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
-    // Vertex removal: flips `level`'s (after(operations)) edges where the data fits better.
-    void flip_removal_level(size_t operations, Surface& level) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;
