@@ -199,7 +199,7 @@ TEST(DataFlips, InTheLevelsOfAVertexRemovalRun) {
     // Each vertex is an input vertex with its data.
     for (size_t v = 0; v < flipped.vertex_count(); ++v) {
         const Vec3 p = position(flipped, v);
-        const size_t i = size_t(std::lround(p[1] * 40)) * 41 + size_t(std::lround(p[0] * 40));
+        const uint32_t i = grid_index(40, int(std::lround(p[0] * 40)), int(std::lround(p[1] * 40)));
         ASSERT_EQ(position(in, i), p);
         ASSERT_EQ(in.fields[0].values[i], flipped.fields[0].values[v]);
     }

@@ -366,7 +366,6 @@ private:
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
-
     // after() and after_as_recorded().
     Surface level_after(size_t operations, bool fit_data) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`; edge
