@@ -11,24 +11,13 @@ namespace ddsimp {
 namespace {
 
 // Vertex removal: per input vertex, where it lies on the level after `operations` removals (none
-// for a kept one): on the level's triangle that covers it (removal_cover.h), in diagonals with
-// ties as the level's error measure has them (level_error.cpp).
-std::vector<detail::Landing> covered_landings(const std::vector<float>& positions,
-                                              size_t input_vertices,
-                                              const std::vector<uint32_t>& triangles,
-                                              const std::vector<uint32_t>& write_begin,
-                                              const std::vector<uint32_t>& writes,
-                                              size_t operations, detail::Parallel& parallel) {
-    std::array<float, 3> low{}, high{};
-    for (int k = 0; k < 3; ++k) {
-        low[k] = high[k] = positions.empty() ? 0 : positions[size_t(k)];
-        for (size_t v = 0; v < input_vertices; ++v)
-            low[k] = std::min(low[k], positions[3 * v + size_t(k)]),
-            high[k] = std::max(high[k], positions[3 * v + size_t(k)]);
-    }
-    const double diagonal = detail::norm(
-        detail::sub(detail::Vec3{high[0], high[1], high[2]}, detail::Vec3{low[0], low[1], low[2]}));
-    constexpr double kTie = 1e-12;
+// for a kept one): on the level's triangle that covers it (removal_cover.h), distances within
+// `tie` of each other equal.
+std::vector<detail::Landing>
+covered_landings(const std::vector<float>& positions, size_t input_vertices,
+                 const std::vector<uint32_t>& triangles, const std::vector<uint32_t>& write_begin,
+                 const std::vector<uint32_t>& writes, size_t operations, double tie,
+                 detail::Parallel& parallel) {
     const detail::RemovalCover cover(triangles, input_vertices, write_begin, writes, operations);
     // The level's triangles are the live slots, in slot order; the write that covers a point is
     // the last to its slot.
@@ -42,7 +31,7 @@ std::vector<detail::Landing> covered_landings(const std::vector<float>& position
     parallel.for_each(input_vertices, [&](size_t p) {
         std::array<double, 3> last{};
         const uint32_t w =
-            cover.follow(uint32_t(p), point, kTie * diagonal,
+            cover.follow(uint32_t(p), point, tie,
                          [&](uint32_t, uint32_t, const std::array<double, 3>& weights, double) {
                              last = weights;
                          });
@@ -192,9 +181,11 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.flat_cos = refit_flat_cos_;
     detail::Parallel parallel(threads_);
     if (strategy_ == Strategy::VertexRemoval) { // the vertices and their data stay
+        // Ties of distances as the level's error measure has them (level_error.cpp).
+        constexpr double kTie = 1e-12;
         std::vector<detail::Landing> landed =
             covered_landings(vertices_.positions, input_vertices_, base_triangles_, write_begin_,
-                             writes_, operations, parallel);
+                             writes_, operations, kTie * refit_diagonal_, parallel);
         detail::flip_edges_for_data(input, landed, level, parallel);
         return;
     }

@@ -109,6 +109,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         // nearly flat, and never across a feature edge.
         record_.refit_distance_weight_ =
             geometry_weight() * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
+        record_.refit_diagonal_ = 1 / quadrics_.inv_diagonal; // not 0: there are components
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
         if (collapse && !mesh_.locked.empty()) {

@@ -162,6 +162,18 @@ Options whole_run(Strategy strategy) {
     return o;
 }
 
+// The level after `operations` of a run with options o on 2 and 4 threads is `level`, byte for
+// byte.
+void expect_same_level_on_more_threads(const Surface& in, Options o, size_t operations,
+                                       const Surface& level) {
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
+    for (int threads : {2, 4}) {
+        o.threads = threads;
+        EXPECT_TRUE(same_bytes(level, ProgressiveRecord::build(in, o).after(operations)))
+            << threads << " threads";
+    }
+}
+
 // Through the library: a flat surface with a crease in its data, reduced by edge collapse with
 // least-error data. after() flips some of the recorded level's edges (after_as_recorded() has the
 // same vertices), keeps the topology, and gives the same bytes on any number of threads.
@@ -175,12 +187,7 @@ TEST(DataFlips, InTheLevelsOfARun) {
     ASSERT_EQ(flipped.positions, recorded.positions);
     EXPECT_NE(flipped.triangles, recorded.triangles);
     EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(flipped)));
-    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
-    for (int threads : {2, 4}) {
-        o.threads = threads;
-        EXPECT_TRUE(same_bytes(flipped, ProgressiveRecord::build(in, o).after(operations)))
-            << threads << " threads";
-    }
+    expect_same_level_on_more_threads(in, o, operations, flipped);
 }
 
 // Vertex removal's levels keep the input's vertices and their data: after() flips edges of the
@@ -205,12 +212,7 @@ TEST(DataFlips, InTheLevelsOfAVertexRemovalRun) {
     }
     EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(flipped)));
     EXPECT_LT(two_way_data_rms(in, flipped), 0.97 * two_way_data_rms(in, recorded));
-    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
-    for (int threads : {2, 4}) {
-        o.threads = threads;
-        EXPECT_TRUE(same_bytes(flipped, ProgressiveRecord::build(in, o).after(operations)))
-            << threads << " threads";
-    }
+    expect_same_level_on_more_threads(in, o, operations, flipped);
     o.alpha = 1;
     const ProgressiveRecord geometric = ProgressiveRecord::build(in, o);
     const size_t at = geometric.operations_for(in.triangle_count() / 10);

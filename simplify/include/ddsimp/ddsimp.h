@@ -358,11 +358,12 @@ private:
     // are locked (empty: none), whose data and that of the points placed on them stay. With that,
     // or vertex removal with the error quadrics: the components a flip of the level's edges
     // weighs (data_flips.h), the weight of each one's squared difference and of a squared
-    // distance, and the least cosine between the normals it flips across.
+    // distance, the least cosine between the normals it flips across, and the input's
+    // bounding-box diagonal (vertex removal's scale of a tie between two distances).
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
     std::vector<double> refit_data_weight_;
-    double refit_distance_weight_ = 0, refit_flat_cos_ = 2;
+    double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_diagonal_ = 0;
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
