@@ -420,6 +420,7 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
             if (quadrics_.continuous[j])
                 m.data_of(n)[quadrics_.offset[j]] = made[3 + quadrics_.offset[j]];
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
+    refusal_near_[n] |= refusal_near_[b];
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
     for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
@@ -455,18 +456,19 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
     // ring: each one now unless another collapse of the pass shares it.
     epoch_[n] = pass_;
     refresh_changed(n, true, true);
+    forgive_around(n);
     uint32_t ring[2 * kMaxValence + 2];
     const size_t k = m.ring(n, ring, 2 * kMaxValence + 2);
     for (size_t i = 0; i < k; ++i) {
         const uint32_t v = ring[i];
         std::atomic_ref<uint32_t>(epoch_[v]).store(pass_, std::memory_order_relaxed);
         if (v == x || v == y) {
-            if (!shared(v)) refresh_changed(v, false, true);
-        } else if (ring_refreshes(v)) {
-            if (shared(v))
-                deferred.ring = true;
-            else
-                refresh_changed(v, false, false);
+            if (!shared(v)) refresh_changed(v, false, true), forgive_around(v);
+        } else if (shared(v)) {
+            deferred.ring |= ring_refreshes(v) || refusal_near_[v];
+        } else {
+            if (ring_refreshes(v)) refresh_changed(v, false, false);
+            forgive_around(v);
         }
     }
     return deferred;
@@ -492,16 +494,33 @@ void Simplifier::refresh_rings(const Apexes* collapses, size_t count) {
                 for (uint32_t v : collapses[j + kAhead].apex)
                     if (v != kNone) __builtin_prefetch(&mesh_.twin[mesh_.out[v]]);
             for (uint32_t v : collapses[j].apex)
-                if (v != kNone && claim_shared(v)) refresh_changed(v, false, true);
+                if (v != kNone && claim_shared(v))
+                    refresh_changed(v, false, true), forgive_around(v);
         }
     });
     parallel_.for_each(count, [&](size_t j) {
         if (!collapses[j].ring) return;
         uint32_t ring[2 * kMaxValence + 2];
         const size_t k = mesh_.ring(collapses[j].made, ring, 2 * kMaxValence + 2);
-        for (size_t i = 0; i < k; ++i)
-            if (claim_shared(ring[i]) && ring_refreshes(ring[i]))
-                refresh_changed(ring[i], false, false);
+        for (size_t i = 0; i < k; ++i) {
+            if (!claim_shared(ring[i])) continue;
+            if (ring_refreshes(ring[i])) refresh_changed(ring[i], false, false);
+            forgive_around(ring[i]);
+        }
+    });
+}
+
+void Simplifier::forgive_around(uint32_t v) {
+    if (!refusal_near_[v]) return;
+    refusal_near_[v] = 0;
+    // Each triangle of the star once, by its half-edge from v: its two edges at v and the one
+    // across. Either half may carry an edge's refusal (a merged edge's halves come from two).
+    mesh_.for_each_outgoing(v, [&](uint32_t g) {
+        for (const uint32_t e : {g, next(g), prev(g)}) {
+            const uint32_t t = mesh_.twin[e];
+            if (fail_[e] != 0 || (t != kNone && fail_[t] != 0))
+                mark_stale(t != kNone && t < e ? t : e);
+        }
     });
 }
 

@@ -51,17 +51,27 @@ uint8_t Simplifier::rank_id(uint32_t id) {
     if (options_.strategy == Strategy::VertexRemoval) {
         // Marked when its star changed, so its key may have: it is placed again.
         if (mesh_.kind[id] == VertexKind::Dead) return kKeyed;
-        if (!removable(id)) {
-            stale_[id] = fail_[id] != 0 ? kStale : 0; // until the refusal is forgiven
-            return kKeyed;
-        }
+        // A refused vertex is marked again when its star changes (refresh_around).
+        if (!removable(id)) return kKeyed;
         return std::isinf(removal_key(id).weight) ? kKeyed : kKeyed | kIsCandidate;
     }
     const uint32_t a = mesh_.origin[id], t = mesh_.twin[id];
     if (a == kNone || (t != kNone && t < id)) return 0; // no live edge's id (a merge marks it)
     if (!collapsible(id, a, mesh_.dest(id))) {
-        // A refusal is forgiven by a change at an apex too, which marks nothing here.
-        stale_[id] = uint8_t((marks & kKeyStale) | (fail_[id] != 0 ? kStale : 0));
+        // A refusal that stands is marked again when a vertex it reads changes (forgive_around),
+        // or, where one of them is complex (a star of several fans, which forgive_around does not
+        // walk; there are few), visited again by every ranking.
+        stale_[id] = marks & kKeyStale;
+        if (fail_[id] == 0) return 0;
+        const uint32_t reads[4] = {a, mesh_.dest(id), mesh_.origin[detail::prev(id)],
+                                   t != kNone ? mesh_.origin[detail::prev(t)] : a};
+        if (std::any_of(reads, reads + 4,
+                        [&](uint32_t v) { return mesh_.kind[v] == VertexKind::Complex; })) {
+            stale_[id] |= kStale, mark_block(id);
+            return 0;
+        }
+        for (const uint32_t v : reads)
+            std::atomic_ref<uint8_t>(refusal_near_[v]).store(1, std::memory_order_relaxed);
         return 0;
     }
     uint8_t ranked = 0;
@@ -78,22 +88,28 @@ detail::Key Simplifier::key_of(uint32_t id) const {
 }
 
 void Simplifier::gather_stale() {
-    // Two scans of the flags, a word at a time (most are clear): each piece counts its stale ids,
-    // then writes them after the pieces before it.
+    // Two scans of the marked blocks' flags, a word at a time (most are clear): each piece counts
+    // its stale ids, then writes them after the pieces before it and clears its blocks' marks.
     static_assert(kStale == 1, "the scan reads kStale as the low bit of each byte");
-    const size_t n = stale_.size(), pieces = pieces_of(parallel_, n);
+    const size_t n = stale_.size(), words = stale_blocks_.size();
+    const size_t pieces = std::min(pieces_of(parallel_, n), words);
+    constexpr size_t kBlock = size_t(1) << kBlockShift;
     auto scan = [&](size_t p, auto&& stale) {
-        const size_t end = piece_begin(p + 1, n, pieces);
-        size_t i = piece_begin(p, n, pieces);
-        constexpr uint64_t kLowBits = 0x0101010101010101u; // kStale of each of 8 ids
-        for (; i + sizeof(uint64_t) <= end; i += sizeof(uint64_t)) {
-            uint64_t word;
-            std::memcpy(&word, &stale_[i], sizeof word);
-            for (word &= kLowBits; word != 0; word &= word - 1)
-                stale(uint32_t(i + size_t(std::countr_zero(word)) / 8));
-        }
-        for (; i < end; ++i)
-            if (stale_[i] & kStale) stale(uint32_t(i));
+        for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces); ++w)
+            for (uint64_t blocks = stale_blocks_[w]; blocks != 0; blocks &= blocks - 1) {
+                const size_t begin = (64 * w + size_t(std::countr_zero(blocks))) * kBlock;
+                const size_t end = std::min(begin + kBlock, n);
+                size_t i = begin;
+                constexpr uint64_t kLowBits = 0x0101010101010101u; // kStale of each of 8 ids
+                for (; i + sizeof(uint64_t) <= end; i += sizeof(uint64_t)) {
+                    uint64_t word;
+                    std::memcpy(&word, &stale_[i], sizeof word);
+                    for (word &= kLowBits; word != 0; word &= word - 1)
+                        stale(uint32_t(i + size_t(std::countr_zero(word)) / 8));
+                }
+                for (; i < end; ++i)
+                    if (stale_[i] & kStale) stale(uint32_t(i));
+            }
     };
     list_in_pieces(
         parallel_, pieces,
@@ -103,7 +119,12 @@ void Simplifier::gather_stale() {
             return count;
         },
         [&](size_t total) { stale_ids_.resize(total); },
-        [&](size_t p, size_t k) { scan(p, [&](uint32_t id) { stale_ids_[k++] = id; }); });
+        [&](size_t p, size_t k) {
+            scan(p, [&](uint32_t id) { stale_ids_[k++] = id; });
+            for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces);
+                 ++w)
+                stale_blocks_[w] = 0;
+        });
 }
 
 void Simplifier::drop_stale() {

@@ -72,11 +72,13 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     assign_on_threads(fail_, ids, 0, parallel_);
     assign_on_threads(raised_, ids, 0, parallel_);
     assign_on_threads(stale_, ids, kStale | kKeyStale, parallel_); // the first ranking: every id
+    stale_blocks_.assign(((ids >> kBlockShift) + 1 + 63) / 64, 0); // ... without reading these
     assign_on_threads(placed_, ids, kUnplaced, parallel_);
     if (collapse) assign_on_threads(edge_weight_, ids, 0, parallel_);
     assign_on_threads(epoch_, capacity, 0, parallel_);
     assign_on_threads(busy_, capacity, {0, 0}, parallel_);
     if (collapse) assign_on_threads(fail_at_, surface.triangles.size(), kNoFold, parallel_);
+    if (collapse) assign_on_threads(refusal_near_, capacity, 0, parallel_);
 
     record_.strategy_ = options.strategy;
     record_.threads_ = options.threads;
@@ -221,7 +223,7 @@ void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
     if (!collapse_quadrics || apex || kind != VertexKind::Free) refresh_vertex(v);
     if (!collapse) return mark_stale(v);
     // The edges at a ring vertex that kept its kind, valence and line read nothing that changed
-    // (a refused one stays stale anyway, see stale_): they keep their places. At an apex or a
+    // (a refused one is marked by forgive_around): they keep their places. At an apex or a
     // line vertex that kept its kind only the valence can have fallen, which can only make an
     // edge without a place a candidate: mark_edges_at marks only those.
     const bool rekey = !collapse_quadrics || made || mesh_.kind[v] != kind || star_keys;
@@ -327,7 +329,12 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         // normals together, and every refused edge is tried again.
         if (!collapse || relaxed_facing_) return stop = StopReason::NothingRemovable, true;
         relaxed_facing_ = true;
+        for (uint32_t g = 0; g < fail_.size(); ++g) {
+            const uint32_t t = mesh_.twin[g];
+            if (fail_[g] != 0 && mesh_.origin[g] != kNone) mark_stale(t != kNone && t < g ? t : g);
+        }
         std::fill(fail_.begin(), fail_.end(), 0);
+        std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
         std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
         return false;
     }

@@ -340,6 +340,9 @@ private:
     // With `rekey`, marks the edges at v stale with their keys to be computed again; without,
     // only those that have no place in the order (see refresh_changed).
     void mark_edges_at(uint32_t v, bool rekey);
+    // v's star changed: if a standing refusal reads v (refusal_near_), marks the refused edges of
+    // its star, v an end or an apex of each.
+    void forgive_around(uint32_t v);
 
     // vertex_removal.cpp
     bool removable(uint32_t v) const;
@@ -413,8 +416,8 @@ private:
     // them all, lightest first (see pass_order.h), from pass to pass: a ranking visits only the
     // ids marked in stale_ where something their status or key reads changed (an operation's
     // stars, a refusal, a plan that waits) and replaces the places of those whose status or key
-    // changed. A refused id stays stale until its refusal is forgiven, as that reads its apexes
-    // too. kKeyStale: its key (edge collapse's, its weight cached in edge_weight_) must be
+    // changed. A refused id is marked again when a vertex its refusal reads changes (see fail_).
+    // kKeyStale: its key (edge collapse's, its weight cached in edge_weight_) must be
     // computed again, as an end moved or changed kind; it stays until the key is computed, which
     // waits until the id is a candidate again. placed_[id]: whether id has a place in
     // ranked_ (kPlaced), one with a key that a plan raised since (kMoved), or one the ranking
@@ -429,10 +432,23 @@ private:
     void mark_stale(uint32_t id) {
         std::atomic_ref<uint8_t> marks(stale_[id]);
         if (!(marks.load(std::memory_order_relaxed) & kStale))
-            marks.fetch_or(kStale, std::memory_order_relaxed);
+            marks.fetch_or(kStale, std::memory_order_relaxed), mark_block(id);
     }
     void mark_rekey(uint32_t id) {
         std::atomic_ref<uint8_t>(stale_[id]).store(kStale | kKeyStale, std::memory_order_relaxed);
+        mark_block(id);
+    }
+    // Which blocks of 64 ids hold a kStale mark (bit b of word w: block 64 w + b), so that a
+    // ranking lists the stale ids by reading those blocks only: some runs make thousands of
+    // passes of a few operations each.
+    static constexpr uint32_t kBlockShift = 6;
+    detail::Array<uint64_t> stale_blocks_;
+    void mark_block(uint32_t id) {
+        const uint32_t block = id >> kBlockShift;
+        std::atomic_ref<uint64_t> word(stale_blocks_[block / 64]);
+        const uint64_t bit = uint64_t(1) << (block % 64);
+        if (!(word.load(std::memory_order_relaxed) & bit))
+            word.fetch_or(bit, std::memory_order_relaxed);
     }
     // rank_candidates' scratch: the stale ids, which of them get new places, the new places
     // sorted, and the sort's scratch space.
@@ -470,8 +486,14 @@ private:
     // Refusals are remembered: fail_[id] is the pass in which the plan refused the edge (per
     // half-edge) or vertex; epoch_[v] is the pass in which v's star last changed. A refusal
     // stands while no vertex the checks read has changed since (in that pass or later): the ends
-    // and apexes of an edge, the vertex itself for a removal.
+    // and apexes of an edge, the vertex itself for a removal. A ranking that finds an edge's
+    // refusal standing sets refusal_near_ at those four vertices, and a change of one's star marks
+    // the refused edges of that star (forgive_around): a refused id is visited again only when
+    // its refusal may be forgiven, not in every ranking (late in a run most edges of some surfaces
+    // are refused, and passes take few operations). A refused vertex (vertex removal) is marked
+    // by the change of its star anyway (refresh_around).
     detail::Array<uint32_t> fail_, epoch_;
+    detail::Array<uint8_t> refusal_near_;
     // Vertex removal: the length of each vertex's shortest edge (its key's tie-break).
     detail::Array<float> shortest_;
     // Where the triangle that made the last refusal of an edge is (kNoFold: another check

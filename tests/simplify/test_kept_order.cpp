@@ -38,6 +38,9 @@ std::vector<Surface> audited_surfaces() {
     s.push_back(with_test_fields(fin_on_grid(20)));
     s.push_back(with_test_fields(thin_blade()));
     s.push_back(with_test_fields(torus(30, 12)));
+    // Complex vertices: stars of several fans, whose refusals are found otherwise.
+    s.push_back(with_test_fields(corner_touching_grids(12)));
+    s.push_back(with_test_fields(tetrahedron_on_grid(16)));
     return s;
 }
 
