@@ -93,12 +93,12 @@ void Simplifier::gather_stale() {
     static_assert(kStale == 1, "the scan reads kStale as the low bit of each byte");
     const size_t n = stale_.size(), words = stale_blocks_.size();
     const size_t pieces = std::min(pieces_of(parallel_, n), words);
-    constexpr size_t kBlock = size_t(1) << kBlockShift;
+    constexpr size_t kIdsPerBlock = size_t(1) << kStaleBlockShift;
     auto scan = [&](size_t p, auto&& stale) {
         for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces); ++w)
             for (uint64_t blocks = stale_blocks_[w]; blocks != 0; blocks &= blocks - 1) {
-                const size_t begin = (64 * w + size_t(std::countr_zero(blocks))) * kBlock;
-                const size_t end = std::min(begin + kBlock, n);
+                const size_t begin = (64 * w + size_t(std::countr_zero(blocks))) * kIdsPerBlock;
+                const size_t end = std::min(begin + kIdsPerBlock, n);
                 size_t i = begin;
                 constexpr uint64_t kLowBits = 0x0101010101010101u; // kStale of each of 8 ids
                 for (; i + sizeof(uint64_t) <= end; i += sizeof(uint64_t)) {

@@ -72,7 +72,8 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     assign_on_threads(fail_, ids, 0, parallel_);
     assign_on_threads(raised_, ids, 0, parallel_);
     assign_on_threads(stale_, ids, kStale | kKeyStale, parallel_); // the first ranking: every id
-    stale_blocks_.assign(((ids >> kBlockShift) + 1 + 63) / 64, 0); // ... without reading these
+    // No block marked: the first ranking visits every id without listing them.
+    stale_blocks_.assign(((ids >> kStaleBlockShift) + 1 + 63) / 64, 0);
     assign_on_threads(placed_, ids, kUnplaced, parallel_);
     if (collapse) assign_on_threads(edge_weight_, ids, 0, parallel_);
     assign_on_threads(epoch_, capacity, 0, parallel_);

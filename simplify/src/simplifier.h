@@ -441,10 +441,10 @@ private:
     // Which blocks of 64 ids hold a kStale mark (bit b of word w: block 64 w + b), so that a
     // ranking lists the stale ids by reading those blocks only: some runs make thousands of
     // passes of a few operations each.
-    static constexpr uint32_t kBlockShift = 6;
+    static constexpr uint32_t kStaleBlockShift = 6;
     detail::Array<uint64_t> stale_blocks_;
     void mark_block(uint32_t id) {
-        const uint32_t block = id >> kBlockShift;
+        const uint32_t block = id >> kStaleBlockShift;
         std::atomic_ref<uint64_t> word(stale_blocks_[block / 64]);
         const uint64_t bit = uint64_t(1) << (block % 64);
         if (!(word.load(std::memory_order_relaxed) & bit))
