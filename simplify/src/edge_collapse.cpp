@@ -518,8 +518,7 @@ void Simplifier::forgive_around(uint32_t v) {
     mesh_.for_each_outgoing(v, [&](uint32_t g) {
         for (const uint32_t e : {g, next(g), prev(g)}) {
             const uint32_t t = mesh_.twin[e];
-            if (fail_[e] != 0 || (t != kNone && fail_[t] != 0))
-                mark_stale(t != kNone && t < e ? t : e);
+            if (fail_[e] != 0 || (t != kNone && fail_[t] != 0)) mark_stale(edge_id(e));
         }
     });
 }

@@ -94,8 +94,9 @@ void Simplifier::gather_stale() {
     const size_t n = stale_.size(), words = stale_blocks_.size();
     const size_t pieces = std::min(pieces_of(parallel_, n), words);
     constexpr size_t kIdsPerBlock = size_t(1) << kStaleBlockShift;
-    auto scan = [&](size_t p, auto&& stale) {
-        for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces); ++w)
+    // `clear`: the blocks' marks go once read.
+    auto scan = [&](size_t p, bool clear, auto&& stale) {
+        for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces); ++w) {
             for (uint64_t blocks = stale_blocks_[w]; blocks != 0; blocks &= blocks - 1) {
                 const size_t begin = (64 * w + size_t(std::countr_zero(blocks))) * kIdsPerBlock;
                 const size_t end = std::min(begin + kIdsPerBlock, n);
@@ -110,21 +111,18 @@ void Simplifier::gather_stale() {
                 for (; i < end; ++i)
                     if (stale_[i] & kStale) stale(uint32_t(i));
             }
+            if (clear) stale_blocks_[w] = 0;
+        }
     };
     list_in_pieces(
         parallel_, pieces,
         [&](size_t p) {
             size_t count = 0;
-            scan(p, [&](uint32_t) { ++count; });
+            scan(p, false, [&](uint32_t) { ++count; });
             return count;
         },
         [&](size_t total) { stale_ids_.resize(total); },
-        [&](size_t p, size_t k) {
-            scan(p, [&](uint32_t id) { stale_ids_[k++] = id; });
-            for (size_t w = piece_begin(p, words, pieces); w < piece_begin(p + 1, words, pieces);
-                 ++w)
-                stale_blocks_[w] = 0;
-        });
+        [&](size_t p, size_t k) { scan(p, true, [&](uint32_t id) { stale_ids_[k++] = id; }); });
 }
 
 void Simplifier::drop_stale() {

@@ -73,7 +73,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     assign_on_threads(raised_, ids, 0, parallel_);
     assign_on_threads(stale_, ids, kStale | kKeyStale, parallel_); // the first ranking: every id
     // No block marked: the first ranking visits every id without listing them.
-    stale_blocks_.assign(((ids >> kStaleBlockShift) + 1 + 63) / 64, 0);
+    stale_blocks_.assign((ids >> kStaleBlockShift) / 64 + 1, 0);
     assign_on_threads(placed_, ids, kUnplaced, parallel_);
     if (collapse) assign_on_threads(edge_weight_, ids, 0, parallel_);
     assign_on_threads(epoch_, capacity, 0, parallel_);
@@ -233,8 +233,7 @@ void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
 
 void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
     mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool) {
-        const uint32_t t = mesh_.twin[h];
-        const uint32_t id = t != kNone && t < h ? t : h;
+        const uint32_t id = edge_id(h);
         if (rekey)
             mark_rekey(id);
         else if (placed_[id] == kUnplaced)
@@ -330,10 +329,8 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         // normals together, and every refused edge is tried again.
         if (!collapse || relaxed_facing_) return stop = StopReason::NothingRemovable, true;
         relaxed_facing_ = true;
-        for (uint32_t g = 0; g < fail_.size(); ++g) {
-            const uint32_t t = mesh_.twin[g];
-            if (fail_[g] != 0 && mesh_.origin[g] != kNone) mark_stale(t != kNone && t < g ? t : g);
-        }
+        for (uint32_t g = 0; g < fail_.size(); ++g)
+            if (fail_[g] != 0 && mesh_.origin[g] != kNone) mark_stale(edge_id(g));
         std::fill(fail_.begin(), fail_.end(), 0);
         std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
         std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);

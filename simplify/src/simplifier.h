@@ -340,6 +340,11 @@ private:
     // With `rekey`, marks the edges at v stale with their keys to be computed again; without,
     // only those that have no place in the order (see refresh_changed).
     void mark_edges_at(uint32_t v, bool rekey);
+    // The id of half-edge h's edge: the lower of its two half-edges.
+    uint32_t edge_id(uint32_t h) const {
+        const uint32_t t = mesh_.twin[h];
+        return t != detail::kNone && t < h ? t : h;
+    }
     // v's star changed: if a standing refusal reads v (refusal_near_), marks the refused edges of
     // its star, v an end or an apex of each.
     void forgive_around(uint32_t v);
