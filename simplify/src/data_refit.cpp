@@ -65,19 +65,6 @@ void solve(const std::vector<uint32_t>& row_begin, const std::vector<uint32_t>& 
     }
 }
 
-// Each level vertex's triangles, in triangle order.
-struct Stars {
-    std::vector<uint32_t> begin, triangle;
-    explicit Stars(const Surface& level)
-        : begin(level.vertex_count() + 1, 0), triangle(level.triangles.size()) {
-        for (uint32_t v : level.triangles) ++begin[v + 1];
-        prefix_sum(begin);
-        std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
-        for (size_t t = 0; t < level.triangle_count(); ++t)
-            for (int c = 0; c < 3; ++c) triangle[fill[level.triangles[3 * t + c]]++] = uint32_t(t);
-    }
-};
-
 // Each input vertex lands on the closest point of its owner's star (first triangle on a tie); if
 // that is on the star's rim, the closest point may lie beyond it, so the stars of the rim's
 // vertices are searched too.

@@ -20,6 +20,19 @@ struct Landing {
     std::array<double, 3> weights{};
 };
 
+// Each level vertex's triangles, in triangle order.
+struct Stars {
+    std::vector<uint32_t> begin, triangle;
+    explicit Stars(const Surface& level)
+        : begin(level.vertex_count() + 1, 0), triangle(level.triangles.size()) {
+        for (uint32_t v : level.triangles) ++begin[v + 1];
+        for (size_t v = 1; v < begin.size(); ++v) begin[v] += begin[v - 1];
+        std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
+        for (size_t t = 0; t < level.triangle_count(); ++t)
+            for (int c = 0; c < 3; ++c) triangle[fill[level.triangles[3 * t + c]]++] = uint32_t(t);
+    }
+};
+
 // Which of a level's vertices and data components the fit sets, and what it fits them to.
 struct RefitInput {
     // The repaired input: its vertices are the first `vertices` of `surface` (a record's
@@ -41,6 +54,9 @@ struct RefitInput {
     std::vector<double> data_weight;
     double distance_weight = 0;
     double flat_cos = 2;
+    // The least cosine between the normals of two triangles across an edge that is no feature
+    // edge (Options::feature_angle; -2: none): vertex removal's moves leave a vertex on one be.
+    double feature_cos = -2;
 };
 
 // Sets the free vertices' data of `level` so that, over both sets of samples at once, the squared

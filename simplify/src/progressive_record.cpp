@@ -1,5 +1,6 @@
 // Replaying a prefix of the recorded operations: every level of one run, without re-running.
 #include "data_flips.h"
+#include "level_relocation.h"
 #include "removal_cover.h"
 #include "simplifier.h"
 #include "validate.h"
@@ -179,6 +180,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.data_weight = refit_data_weight_;
     input.distance_weight = refit_distance_weight_;
     input.flat_cos = refit_flat_cos_;
+    input.feature_cos = refit_feature_cos_;
     detail::Parallel parallel(threads_);
     if (strategy_ == Strategy::VertexRemoval) { // the vertices and their data stay
         // Ties of distances as the level's error measure has them (level_error.cpp).
@@ -186,6 +188,10 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
         std::vector<detail::Landing> landed =
             covered_landings(vertices_.positions, input_vertices_, base_triangles_, write_begin_,
                              writes_, operations, kTie * refit_diagonal_, parallel);
+        std::vector<uint32_t> source(level.vertex_count());
+        for (size_t v = 0; v < input_vertices_; ++v)
+            if (index[v] != detail::kNoOwner) source[index[v]] = uint32_t(v);
+        detail::relocate_vertices_for_data(input, locked_input_, source, landed, level, parallel);
         detail::flip_edges_for_data(input, landed, level, parallel);
         return;
     }

@@ -113,9 +113,10 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         record_.refit_distance_weight_ =
             geometry_weight() * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
         record_.refit_diagonal_ = 1 / quadrics_.inv_diagonal; // not 0: there are components
+        record_.refit_feature_cos_ = mesh_.limits.feature_cos;
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
-        if (collapse && !mesh_.locked.empty()) {
+        if (!mesh_.locked.empty()) {
             record_.locked_input_.resize(n);
             for (uint32_t v = 0; v < n; ++v) record_.locked_input_[v] = mesh_.locked[rank_[v]];
         }

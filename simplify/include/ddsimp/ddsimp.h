@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 25;
+inline constexpr int algorithm_version = 26;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -299,12 +299,14 @@ public:
 
     // The surface after the first `operations` operations (0 = the repaired input). With edge
     // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level.
-    // With that, or with vertex removal and the error quadrics, where the surface is nearly flat,
-    // its edges are flipped where the data fits better (not at alpha = 1).
+    // With vertex removal and the error quadrics, its vertices may move to other input vertices
+    // (with their data) where the data fits better. With either, where the surface is nearly
+    // flat, its edges are flipped where the data fits better (neither at alpha = 1).
     Surface after(size_t operations) const;
     // The same level with each vertex's data as vertices() carries it, never fitted, nor its
-    // edges flipped: what a refinement stream (vertices() and indexed_triangles) shows, level
-    // after level. The same vertices, in the same order, as after().
+    // edges flipped, nor its vertices moved: what a refinement stream (vertices() and
+    // indexed_triangles) shows, level after level. As many vertices as after(), in the same
+    // order; each of after()'s is this level's vertex or one of the input vertices it replaced.
     Surface after_as_recorded(size_t operations) const;
     // The surface at the first operation that leaves at most `triangles` triangles (or the
     // coarsest recorded if none does).
@@ -354,23 +356,27 @@ private:
     std::vector<uint32_t> collapse_;
     size_t input_vertices_ = 0;
     // Edge collapse with DataPlacement::LeastError: the data components (field, component) that
-    // after() fits to the input over the whole level (data_refit.h), and which input vertices
-    // are locked (empty: none), whose data and that of the points placed on them stay. With that,
-    // or vertex removal with the error quadrics: the components a flip of the level's edges
-    // weighs (data_flips.h), the weight of each one's squared difference and of a squared
-    // distance, the least cosine between the normals it flips across, and the input's
-    // bounding-box diagonal (vertex removal's scale of a tie between two distances).
+    // after() fits to the input over the whole level (data_refit.h). With that, or vertex
+    // removal with the error quadrics: which input vertices are locked (empty: none), whose data
+    // and that of the points placed on them stay and which vertex removal's moves never move
+    // (level_relocation.h); the components a flip of the level's edges or a move weighs
+    // (data_flips.h), the weight of each one's squared difference and of a squared distance,
+    // the least cosine between the normals it flips or moves across, that across a feature edge
+    // (which a move leaves be), and the input's bounding-box diagonal (vertex removal's scale of
+    // a tie between two distances).
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
     std::vector<double> refit_data_weight_;
-    double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_diagonal_ = 0;
+    double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_feature_cos_ = -2,
+           refit_diagonal_ = 0;
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
     // after() and after_as_recorded().
     Surface level_after(size_t operations, bool fit_data) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`; edge
-    // collapse) and flips its edges where the data fits better (both strategies).
+    // collapse) or moves its vertices (vertex removal), and flips its edges where the data fits
+    // better (both strategies).
     void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.

@@ -1,0 +1,387 @@
+// A vertex-removal level's vertices moved to the input vertex in their star that the samples fit
+// best.
+#include "level_relocation.h"
+
+#include "working_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace ddsimp::detail {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Above this many data components a point's joint coordinates do not fit the scratch arrays;
+// such a level is left as it is.
+constexpr size_t kMaxComponents = 61;
+constexpr size_t kMaxDims = 3 + kMaxComponents;
+
+// A star's samples: the input vertices on its triangles, the weight of the star's centre at each
+// one's landing, and each one's joint coordinates and residual there (dims per sample).
+struct StarSamples {
+    std::vector<uint32_t> vertex;
+    std::vector<double> centre_weight, joint, residual;
+};
+
+// Where a star's centre would go: the input vertex, and the samples' landings there.
+struct Move {
+    uint32_t to = kNoOwner;
+    std::vector<std::pair<uint32_t, Landing>> landed;
+};
+
+// The level, its stars, and the samples on each triangle, as the moves change them. A point's
+// joint coordinates are its position and its data in one vector, each scaled by the square root
+// of its weight, so that a squared difference of two is their weighted squared error.
+class LevelRelocation {
+public:
+    LevelRelocation(const RefitInput& input, const std::vector<uint8_t>& locked,
+                    std::vector<uint32_t>& source, std::vector<Landing>& forward, Surface& level)
+        : input_(input), in_(*input.surface), locked_(locked), source_(source), forward_(forward),
+          level_(level), stars_(level), dims_(3 + input.components.size()) {
+        scale_.push_back(std::sqrt(input.distance_weight));
+        for (double w : input.data_weight) scale_.push_back(std::sqrt(w));
+        // Each triangle's samples as a list through next_, in input order.
+        head_.assign(level.triangle_count(), kNoOwner), next_.assign(forward.size(), kNoOwner);
+        for (size_t i = forward.size(); i-- > 0;)
+            if (const uint32_t t = forward[i].triangle; t != kNoOwner)
+                next_[i] = head_[t], head_[t] = uint32_t(i);
+    }
+
+    size_t vertex_count() const { return level_.vertex_count(); }
+
+    // The sample of v's star that lowers the star's error most as its centre, with its landings;
+    // to = kNoOwner if none does (or v may not move). Reads the level only.
+    Move best_move(uint32_t v) const {
+        Move best;
+        if (!interior(v) || (!locked_.empty() && locked_[source_[v]])) return best;
+        // The samples and their error; with them, the sums that price moving the centre by d
+        // with every sample's weights kept: the sum of |w d + r|^2 is A |d|^2 + 2 d.B + C.
+        const Star star = star_of(v);
+        if (!star.smooth(input_.feature_cos)) return best;
+        StarSamples samples;
+        std::array<double, kMaxDims> b{}, r;
+        double a = 0, c = 0;
+        for (size_t i = 0; i < star.triangle.size(); ++i) {
+            const uint32_t t = star.triangle[i];
+            for (uint32_t s = head_[t]; s != kNoOwner; s = next_[s]) {
+                const Landing& l = forward_[s];
+                std::array<double, 3> w; // in the star's order: the centre first
+                for (size_t k = 0; k < 3; ++k) w[star.order[i][k]] = l.weights[k];
+                samples.vertex.push_back(s);
+                samples.centre_weight.push_back(w[0]);
+                const size_t at = samples.joint.size();
+                samples.joint.resize(at + dims_);
+                joint(s, &samples.joint[at]);
+                const double e =
+                    residual(star, i, star.centre_joint.data(), w, &samples.joint[at], r.data());
+                samples.residual.insert(samples.residual.end(), r.begin(), r.begin() + long(dims_));
+                c += e, a += w[0] * w[0];
+                for (size_t k = 0; k < dims_; ++k) b[k] += w[0] * r[k];
+            }
+        }
+        const size_t count = samples.vertex.size();
+        if (count == 0) return best;
+        // A move must lower the error by more than rounding and than differences the data's
+        // floats cannot tell apart (as a flip must, data_flips.cpp).
+        const double noise = std::max(1e-9 * c, 1e-12 * double(count + 1));
+        // Each sample as the centre, estimated with the weights kept (less its own error, plus
+        // that of the old centre, which lies where the new one is: |d|^2); landed properly in
+        // the estimates' order, each given up once it is no better than the best so far.
+        const double* jv = star.centre_joint.data();
+        std::vector<std::pair<double, uint32_t>> order;
+        for (uint32_t i = 0; i < count; ++i) {
+            const double *ju = &samples.joint[i * dims_], *ru = &samples.residual[i * dims_];
+            double dd = 0, db = 0, own = 0;
+            for (size_t k = 0; k < dims_; ++k) {
+                const double d = ju[k] - jv[k], o = samples.centre_weight[i] * d + ru[k];
+                dd += d * d, db += d * b[k], own += o * o;
+            }
+            order.emplace_back(a * dd + 2 * db + c - own + dd, i);
+        }
+        std::sort(order.begin(), order.end());
+        double least = c - noise;
+        uint32_t chosen = kNoOwner;
+        for (const auto& [estimate, i] : order) {
+            if (!star.keeps(point_of(in_.positions, samples.vertex[i]), input_.flat_cos)) continue;
+            const double e = landed_error(star, samples, i, least, nullptr);
+            if (e < least) least = e, chosen = i;
+        }
+        if (chosen != kNoOwner) {
+            best.to = samples.vertex[chosen];
+            landed_error(star, samples, chosen, kInfinity, &best.landed);
+        }
+        return best;
+    }
+
+    // Moves v to `move`'s input vertex, its samples to their landings there.
+    void apply(uint32_t v, Move& move) {
+        const uint32_t u = move.to;
+        std::copy_n(&in_.positions[3 * size_t(u)], 3, &level_.positions[3 * size_t(v)]);
+        for (size_t f = 0; f < level_.fields.size(); ++f) {
+            const size_t nc = size_t(level_.fields[f].components);
+            std::copy_n(&in_.fields[f].values[nc * u], nc, &level_.fields[f].values[nc * v]);
+        }
+        forward_[u] = Landing{};
+        source_[v] = u;
+        for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p)
+            head_[stars_.triangle[p]] = kNoOwner;
+        // Back to front, so that each triangle's list is in input order.
+        std::sort(move.landed.begin(), move.landed.end(),
+                  [](const auto& x, const auto& y) { return x.first > y.first; });
+        for (const auto& [s, at] : move.landed) {
+            forward_[s] = at;
+            next_[s] = head_[at.triangle], head_[at.triangle] = s;
+        }
+    }
+
+    // v and its ring: the vertices whose stars a move of v changes.
+    template <class F> void for_each_near(uint32_t v, F&& visit) const {
+        visit(v);
+        for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p)
+            for (uint32_t k : corners(stars_.triangle[p]))
+                if (k != v) visit(k);
+    }
+
+private:
+    using Corners = std::array<uint32_t, 3>;
+
+    // A star's triangles with their corners' points, the centre's first, and their normals.
+    struct Star {
+        uint32_t centre;
+        std::vector<uint32_t> triangle;
+        std::vector<std::array<Vec3, 3>> points;   // the centre's point first, then in order
+        std::vector<std::array<uint8_t, 3>> order; // the triangle's corners in points' order
+        std::vector<Vec3> normal;
+        double area = 0;                  // twice the star's
+        std::vector<double> centre_joint; // the centre's joint coordinates
+        std::vector<double> ring_joint;   // per triangle, its other two corners'
+        // The plane of the star's mean normal (two unit vectors in it), and in it each
+        // triangle's other two corners.
+        Vec3 e1{}, e2{};
+        std::vector<std::array<double, 4>> ring_2d;
+
+        std::array<double, 2> project(const Vec3& p) const { return {dot(p, e1), dot(p, e2)}; }
+        // The triangle whose sector, seen from the centre at x (projected: cx), holds p's
+        // projection; if none does (the projection folds the star), the nearest.
+        size_t triangle_over(const Vec3& p, const Vec3& x, const std::array<double, 2>& cx) const {
+            const std::array<double, 2> q = project(p);
+            const double qx = q[0] - cx[0], qy = q[1] - cx[1];
+            for (size_t i = 0; i < triangle.size(); ++i) {
+                const std::array<double, 4>& r = ring_2d[i];
+                const double ax = r[0] - cx[0], ay = r[1] - cx[1], bx = r[2] - cx[0],
+                             by = r[3] - cx[1];
+                if (ax * qy - ay * qx >= 0 && qx * by - qy * bx >= 0) return i;
+            }
+            size_t on = 0;
+            double nearest = kInfinity;
+            for (size_t i = 0; i < triangle.size(); ++i) {
+                const Vec3 e = sub(closest_on_triangle(p, x, points[i][1], points[i][2]).point, p);
+                if (dot(e, e) < nearest) nearest = dot(e, e), on = i;
+            }
+            return on;
+        }
+
+        // Whether the star has no feature edge: each two triangles that share an edge at the
+        // centre have normals within `feature_cos`. A corner or a crease stays where it is.
+        bool smooth(double feature_cos) const {
+            for (size_t i = 0; i < triangle.size(); ++i)
+                for (size_t j = 0; j < triangle.size(); ++j)
+                    if (points[i][2] == points[j][1] &&
+                        dot(normal[i], normal[j]) < feature_cos * norm(normal[i]) * norm(normal[j]))
+                        return false;
+            return true;
+        }
+        // Whether moving the centre to x keeps each triangle's normal within `flat_cos` of its
+        // own, and makes no sliver.
+        bool keeps(const Vec3& x, double flat_cos) const {
+            for (size_t i = 0; i < triangle.size(); ++i) {
+                const Vec3 after = cross(sub(points[i][1], x), sub(points[i][2], x));
+                const double la = norm(after);
+                if (!(la > 1e-6 * area) || dot(after, normal[i]) < flat_cos * la * norm(normal[i]))
+                    return false;
+            }
+            return true;
+        }
+    };
+    Corners corners(uint32_t t) const {
+        const uint32_t* k = &level_.triangles[3 * size_t(t)];
+        return {k[0], k[1], k[2]};
+    }
+    int corner_of(uint32_t t, uint32_t v) const {
+        const Corners k = corners(t);
+        return k[0] == v ? 0 : k[1] == v ? 1 : 2;
+    }
+    Vec3 point(uint32_t v) const { return point_of(level_.positions, v); }
+
+    // Whether v's star is a closed fan: each neighbour on exactly two of its triangles.
+    bool interior(uint32_t v) const {
+        std::vector<uint32_t> ring;
+        for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p)
+            for (uint32_t k : corners(stars_.triangle[p]))
+                if (k != v) ring.push_back(k);
+        if (ring.empty()) return false;
+        std::sort(ring.begin(), ring.end());
+        for (size_t i = 0; i < ring.size(); i += 2)
+            if (i + 1 == ring.size() || ring[i] != ring[i + 1] ||
+                (i + 2 < ring.size() && ring[i + 2] == ring[i]))
+                return false;
+        return true;
+    }
+
+    // Input vertex i's joint coordinates.
+    void joint(uint32_t i, double* out) const {
+        const Vec3 p = point_of(in_.positions, i);
+        for (size_t k = 0; k < 3; ++k) out[k] = scale_[0] * p[k];
+        for (size_t j = 0; j < input_.components.size(); ++j) {
+            const auto [field, component] = input_.components[j];
+            const Field& f = in_.fields[field];
+            out[3 + j] = scale_[1 + j] * double(f.values[size_t(f.components) * i + component]);
+        }
+    }
+
+    // The residual of a sample with joint coordinates `own` landed on the star's triangle i with
+    // weights w (in the star's order) and the centre's joint coordinates `centre`: the joint
+    // coordinates there less its own, into r. Returns its squared length, the sample's error.
+    double residual(const Star& star, size_t i, const double* centre,
+                    const std::array<double, 3>& w, const double* own, double* r) const {
+        const double *j1 = &star.ring_joint[(2 * i) * dims_],
+                     *j2 = &star.ring_joint[(2 * i + 1) * dims_];
+        double e = 0;
+        for (size_t d = 0; d < dims_; ++d) {
+            r[d] = w[0] * centre[d] + w[1] * j1[d] + w[2] * j2[d] - own[d];
+            e += r[d] * r[d];
+        }
+        return e;
+    }
+
+    Star star_of(uint32_t v) const {
+        Star star;
+        star.centre = v;
+        Vec3 axis{0, 0, 0};
+        star.centre_joint.resize(dims_);
+        joint(source_[v], star.centre_joint.data());
+        for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p) {
+            const uint32_t t = stars_.triangle[p];
+            const int c = corner_of(t, v);
+            const Corners k = corners(t);
+            // The centre first, the triangle's orientation kept.
+            const uint32_t n1 = k[size_t((c + 1) % 3)], n2 = k[size_t((c + 2) % 3)];
+            star.triangle.push_back(t);
+            star.points.push_back({point(v), point(n1), point(n2)});
+            std::array<uint8_t, 3> o{};
+            o[size_t(c)] = 0, o[size_t((c + 1) % 3)] = 1, o[size_t((c + 2) % 3)] = 2;
+            star.order.push_back(o);
+            const Vec3 n = cross(sub(point(n1), point(v)), sub(point(n2), point(v)));
+            star.normal.push_back(n);
+            star.area += norm(n);
+            axis = add(axis, n);
+            for (uint32_t k : {n1, n2}) {
+                star.ring_joint.resize(star.ring_joint.size() + dims_);
+                joint(source_[k], &star.ring_joint[star.ring_joint.size() - dims_]);
+            }
+        }
+        // The plane: any two unit vectors perpendicular to the mean normal, and to each other.
+        const double length = norm(axis);
+        axis = length > 0 ? scale(axis, 1 / length) : Vec3{0, 0, 1};
+        star.e1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+        star.e1 = sub(star.e1, scale(axis, dot(star.e1, axis)));
+        star.e1 = scale(star.e1, 1 / norm(star.e1));
+        star.e2 = cross(axis, star.e1);
+        for (const auto& p : star.points) {
+            const auto a = star.project(p[1]), b = star.project(p[2]);
+            star.ring_2d.push_back({a[0], a[1], b[0], b[1]});
+        }
+        return star;
+    }
+
+    // The star's samples but sample `to`, and the centre's input vertex, each landed on the
+    // star's triangle over it with the centre at sample `to` (Star::triangle_over), at its
+    // closest point there: their total error, or infinity once it reaches `bound`. The landings
+    // go to `landed`, if given.
+    double landed_error(const Star& star, const StarSamples& samples, uint32_t to, double bound,
+                        std::vector<std::pair<uint32_t, Landing>>* landed) const {
+        const uint32_t u = samples.vertex[to];
+        const Vec3 x = point_of(in_.positions, u);
+        const double* centre = &samples.joint[to * dims_];
+        if (landed) landed->clear();
+        double total = 0;
+        std::array<double, kMaxDims> r;
+        const std::array<double, 2> cx = star.project(x);
+        auto land = [&](uint32_t s, const double* own) {
+            const Vec3 p = point_of(in_.positions, s);
+            const size_t on = star.triangle_over(p, x, cx);
+            const std::array<double, 3> w =
+                closest_on_triangle(p, x, star.points[on][1], star.points[on][2]).weights;
+            total += residual(star, on, centre, w, own, r.data());
+            if (landed) {
+                Landing at{star.triangle[on], {}};
+                for (size_t k = 0; k < 3; ++k) at.weights[k] = w[star.order[on][k]];
+                landed->emplace_back(s, at);
+            }
+        };
+        land(source_[star.centre], star.centre_joint.data());
+        for (uint32_t i = 0; i < samples.vertex.size(); ++i)
+            if (i != to) {
+                if (total >= bound) return kInfinity;
+                land(samples.vertex[i], &samples.joint[i * dims_]);
+            }
+        return total;
+    }
+
+    const RefitInput& input_;
+    const Surface& in_;
+    const std::vector<uint8_t>& locked_;
+    std::vector<uint32_t>& source_;
+    std::vector<Landing>& forward_;
+    Surface& level_;
+    const Stars stars_;
+    const size_t dims_;
+    std::vector<double> scale_; // the square root of the distance's weight, then each datum's
+    std::vector<uint32_t> head_, next_;
+};
+
+} // namespace
+
+bool relocate_vertices_for_data(const RefitInput& input, const std::vector<uint8_t>& locked,
+                                std::vector<uint32_t>& source, std::vector<Landing>& forward,
+                                Surface& level, Parallel& parallel) {
+    if (!(input.flat_cos <= 1) || level.triangle_count() < 2 ||
+        input.components.size() > kMaxComponents)
+        return false;
+    LevelRelocation relocation(input, locked, source, forward, level);
+    const size_t nv = relocation.vertex_count();
+    std::vector<uint32_t> sweep(nv);
+    for (uint32_t v = 0; v < nv; ++v) sweep[v] = v;
+    std::vector<uint32_t> changed(nv, 0); // per vertex: the last sweep that moved its star
+    std::vector<Move> moves;
+    bool any = false;
+    // Every move lowers the samples' error, so the sweeps would end; most of what they gain is
+    // gained in the first three, and each costs about as much as the one before.
+    constexpr uint32_t kMaxSweeps = 3;
+    for (uint32_t round = 1; round <= kMaxSweeps && !sweep.empty(); ++round) {
+        // Each vertex's best move as the level stands at the sweep's start (on the threads);
+        // each is made in its turn, found again if a move before it has changed its star.
+        moves.assign(sweep.size(), Move{});
+        parallel.for_each(
+            sweep.size(), [&](size_t i) { moves[i] = relocation.best_move(sweep[i]); }, 16);
+        std::vector<uint32_t> near;
+        for (size_t i = 0; i < sweep.size(); ++i) {
+            const uint32_t v = sweep[i];
+            if (changed[v] == round) moves[i] = relocation.best_move(v);
+            if (moves[i].to == kNoOwner) continue;
+            relocation.apply(v, moves[i]);
+            any = true;
+            relocation.for_each_near(v, [&](uint32_t k) {
+                changed[k] = round;
+                near.push_back(k);
+            });
+        }
+        std::sort(near.begin(), near.end());
+        near.erase(std::unique(near.begin(), near.end()), near.end());
+        sweep.swap(near);
+    }
+    return any;
+}
+
+} // namespace ddsimp::detail

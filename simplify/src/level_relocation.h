@@ -1,0 +1,31 @@
+// A vertex-removal level's vertices moved to other input vertices where the input's samples fit
+// better: the level still keeps a subset of the input's vertices, each with its exact position
+// and data, but not always the ones the removals left (docs/algorithm.md, "Vertex removal").
+#pragma once
+
+#include "data_refit.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddsimp::detail {
+
+// Sweeps over the level's vertices in order, moving each interior vertex v to the input vertex,
+// among the samples landed on its star, that lowers the star's weighted squared error most
+// (RefitInput::data_weight, distance_weight): the samples, v's own input vertex now one of them,
+// each landed on the star's triangle over it (seen along the star's mean normal) at its closest
+// point there. Only the star's triangles change; each must keep its normal within
+// input.flat_cos of the old one and none may become a sliver, so the triangles and the topology
+// stay; a vertex on a feature edge (input.feature_cos) stays. A sweep after the first visits only
+// the vertices next to the last one's moves; there are at most three. Every move lowers the
+// samples' total error. `source` (per level vertex: its input vertex) and `forward` (per input
+// vertex: where it lies on the level; kNoOwner for the level's own vertices) follow the moves;
+// `locked` (per input vertex, empty: none) marks vertices that stay. Of `input`, only the surface,
+// components, weights, flat_cos and feature_cos are read. Returns whether any vertex moved. The
+// same bytes for any number of threads: the threads only find each vertex's best move, which is
+// then made vertex by vertex, in order, found again where a move before it changed the star.
+bool relocate_vertices_for_data(const RefitInput& input, const std::vector<uint8_t>& locked,
+                                std::vector<uint32_t>& source, std::vector<Landing>& forward,
+                                Surface& level, Parallel& parallel);
+
+} // namespace ddsimp::detail

@@ -1,0 +1,159 @@
+// A vertex-removal level's vertices moved to other input vertices where the data fits better
+// (level_relocation.h): a level vertex beside a peak in the data moves onto it; every vertex stays
+// an input vertex with its exact position and data; the triangles and the topology stay; locked
+// vertices, and data the level already holds exactly, stay; the result is the same on any number
+// of threads.
+#include "data_error.h"
+#include "data_flips.h"
+#include "level_relocation.h"
+#include "parallel.h"
+
+#include <oneapi/tbb/global_control.h>
+
+#include <cmath>
+#include <numbers>
+
+namespace ddsimp::test {
+namespace {
+
+constexpr int kFine = 32, kStep = 8, kCoarse = kFine / kStep;
+// The input vertex at the top of the bump: three fine cells right of and two above the level
+// vertex at the middle of the square.
+constexpr int kPeakI = kFine / 2 + 3, kPeakJ = kFine / 2 + 2;
+
+double bump(const Vec3& p) {
+    const double dx = p[0] - double(kPeakI) / kFine, dy = p[1] - double(kPeakJ) / kFine;
+    return std::exp(-(dx * dx + dy * dy) * 200);
+}
+
+// The input: a fine flat grid over the unit square with data `field`. The level: every kStep-th
+// input vertex, as a grid of its own; each input vertex it does not keep landed on its closest
+// level triangle (found by trying them all).
+struct LevelCase {
+    Surface input, level;
+    detail::RefitInput refit;
+    std::vector<uint32_t> source; // level vertex -> input vertex
+    std::vector<detail::Landing> forward;
+    std::vector<uint8_t> locked;
+
+    explicit LevelCase(double (*field)(const Vec3&)) {
+        input = grid(kFine, kFine);
+        add_field(input, "f", 1, [&](const Vec3& p) { return std::vector<double>{field(p)}; });
+        level = grid(kCoarse, kCoarse);
+        level.positions.clear();
+        for (int j = 0; j <= kCoarse; ++j)
+            for (int i = 0; i <= kCoarse; ++i)
+                source.push_back(grid_index(kFine, kStep * i, kStep * j));
+        level.fields.push_back({"f", 1, {}, input.fields[0].kind});
+        for (uint32_t v : source) {
+            for (int d = 0; d < 3; ++d) level.positions.push_back(input.positions[3 * v + d]);
+            level.fields[0].values.push_back(input.fields[0].values[v]);
+        }
+        forward.resize(input.vertex_count());
+        for (uint32_t v : source) forward[v].triangle = detail::kNoOwner;
+        for (uint32_t i = 0; i < input.vertex_count(); ++i) {
+            if (std::find(source.begin(), source.end(), i) != source.end()) continue;
+            double best = INFINITY;
+            for (uint32_t t = 0; t < level.triangle_count(); ++t) {
+                const auto k = corners(level, t);
+                const detail::ClosestPoint c =
+                    detail::closest_on_triangle(position(input, i), position(level, k[0]),
+                                                position(level, k[1]), position(level, k[2]));
+                const Vec3 d = c.point - position(input, i);
+                if (dot(d, d) < best) best = dot(d, d), forward[i] = {t, c.weights};
+            }
+        }
+        refit.surface = &input;
+        refit.vertices = input.vertex_count();
+        refit.triangles = &input.triangles;
+        refit.components = {{0u, 0u}};
+        refit.data_weight = {1.0};
+        refit.distance_weight = 0.2;
+        refit.flat_cos = std::cos(detail::kFlipFlatDegrees * std::numbers::pi / 180);
+    }
+
+    bool relocate(int threads = 1) {
+        detail::Parallel parallel(threads);
+        return detail::relocate_vertices_for_data(refit, locked, source, forward, level, parallel);
+    }
+
+    // Each level vertex is its source input vertex, with that vertex's position and data.
+    ::testing::AssertionResult vertices_are_the_inputs() const {
+        for (uint32_t v = 0; v < level.vertex_count(); ++v)
+            if (position(level, v) != position(input, source[v]) ||
+                level.fields[0].values[v] != input.fields[0].values[source[v]])
+                return ::testing::AssertionFailure() << "level vertex " << v;
+        return ::testing::AssertionSuccess();
+    }
+};
+
+double waves(const Vec3& p) {
+    return std::sin(9 * p[0]) * std::cos(7 * p[1]) + bump(p);
+}
+
+constexpr uint32_t kMiddle = (kCoarse + 1) * (kCoarse / 2) + kCoarse / 2; // level vertex at (½, ½)
+
+TEST(LevelRelocation, MovesAVertexOntoAPeakInTheData) {
+    LevelCase c(bump);
+    const std::vector<uint32_t> triangles = c.level.triangles;
+    const Topology before = analyze_topology(c.level);
+    const double error_before = two_way_data_rms(c.input, c.level);
+    ASSERT_LT(c.level.fields[0].values[kMiddle], 0.1); // the peak is between the level's vertices
+    EXPECT_TRUE(c.relocate());
+    EXPECT_EQ(c.source[kMiddle], grid_index(kFine, kPeakI, kPeakJ));
+    EXPECT_EQ(c.level.fields[0].values[kMiddle], 1.0f);
+    EXPECT_TRUE(c.vertices_are_the_inputs());
+    EXPECT_EQ(c.level.triangles, triangles);
+    EXPECT_TRUE(topology_kept(before, analyze_topology(c.level)));
+    EXPECT_LT(two_way_data_rms(c.input, c.level), 0.5 * error_before);
+    // The input vertex left behind lands on the level; the peak is the level's own.
+    EXPECT_NE(c.forward[grid_index(kFine, kFine / 2, kFine / 2)].triangle, detail::kNoOwner);
+    EXPECT_EQ(c.forward[grid_index(kFine, kPeakI, kPeakJ)].triangle, detail::kNoOwner);
+}
+
+TEST(LevelRelocation, LockedVerticesStay) {
+    LevelCase c(bump);
+    c.locked.assign(c.input.vertex_count(), 0);
+    c.locked[c.source[kMiddle]] = 1;
+    c.relocate();
+    EXPECT_EQ(c.source[kMiddle], grid_index(kFine, kFine / 2, kFine / 2));
+    EXPECT_TRUE(c.vertices_are_the_inputs());
+}
+
+// A linear field on a plane: the level holds it exactly, so no move can lower the error.
+TEST(LevelRelocation, DataTheLevelHoldsStays) {
+    LevelCase c([](const Vec3& p) { return 0.3 * p[0] - 0.7 * p[1]; });
+    const std::vector<float> positions = c.level.positions;
+    EXPECT_FALSE(c.relocate());
+    EXPECT_EQ(c.level.positions, positions);
+}
+
+// Data that waves across the square, fitted by many moves: each keeps every triangle of the
+// plane facing up, none of them a sliver.
+TEST(LevelRelocation, NeverFoldsTheLevel) {
+    LevelCase c(waves);
+    EXPECT_TRUE(c.relocate());
+    EXPECT_TRUE(c.vertices_are_the_inputs());
+    for (uint32_t t = 0; t < c.level.triangle_count(); ++t) {
+        const auto k = corners(c.level, t);
+        const Vec3 a = position(c.level, k[0]);
+        const Vec3 n = cross(position(c.level, k[1]) - a, position(c.level, k[2]) - a);
+        EXPECT_GT(n[2], 1e-6 / (kCoarse * kCoarse)) << "triangle " << t;
+    }
+}
+
+TEST(LevelRelocation, SameBytesOnAnyThreadCount) {
+    // As in test_determinism.cpp: as many threads as asked for, also on a two-core machine.
+    oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
+    LevelCase one(waves);
+    one.relocate(1);
+    for (int threads : {2, 3, 4}) {
+        LevelCase many(waves);
+        many.relocate(threads);
+        EXPECT_TRUE(same_bytes(one.level, many.level)) << threads << " threads";
+        EXPECT_EQ(one.source, many.source) << threads << " threads";
+    }
+}
+
+} // namespace
+} // namespace ddsimp::test
