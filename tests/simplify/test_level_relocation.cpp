@@ -91,7 +91,8 @@ double waves(const Vec3& p) {
     return std::sin(9 * p[0]) * std::cos(7 * p[1]) + bump(p);
 }
 
-constexpr uint32_t kMiddle = (kCoarse + 1) * (kCoarse / 2) + kCoarse / 2; // level vertex at (½, ½)
+// The level vertex at the middle of the square.
+constexpr uint32_t kMiddle = (kCoarse + 1) * (kCoarse / 2) + kCoarse / 2;
 
 TEST(LevelRelocation, MovesAVertexOntoAPeakInTheData) {
     LevelCase c(bump);
