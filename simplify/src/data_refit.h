@@ -55,7 +55,8 @@ struct RefitInput {
     double distance_weight = 0;
     double flat_cos = 2;
     // The least cosine between the normals of two triangles across an edge that is no feature
-    // edge (Options::feature_angle; -2: none): vertex removal's moves leave a vertex on one be.
+    // edge (Options::feature_angle; -2: none): a vertex-removal level's vertex on a feature edge
+    // is not moved (level_relocation.h).
     double feature_cos = -2;
 };
 

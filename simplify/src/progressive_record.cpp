@@ -182,7 +182,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.flat_cos = refit_flat_cos_;
     input.feature_cos = refit_feature_cos_;
     detail::Parallel parallel(threads_);
-    if (strategy_ == Strategy::VertexRemoval) { // the vertices and their data stay
+    if (strategy_ == Strategy::VertexRemoval) { // input vertices with their data, no value fitted
         // Ties of distances as the level's error measure has them (level_error.cpp).
         constexpr double kTie = 1e-12;
         std::vector<detail::Landing> landed =

@@ -361,9 +361,9 @@ private:
     // and that of the points placed on them stay and which vertex removal's moves never move
     // (level_relocation.h); the components a flip of the level's edges or a move weighs
     // (data_flips.h), the weight of each one's squared difference and of a squared distance,
-    // the least cosine between the normals it flips or moves across, that across a feature edge
-    // (which a move leaves be), and the input's bounding-box diagonal (vertex removal's scale of
-    // a tie between two distances).
+    // the least cosine between the normals it flips or moves across, that across an edge that is
+    // no feature edge (a vertex on a feature edge is not moved), and the input's bounding-box
+    // diagonal (vertex removal's scale of a tie between two distances).
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
     std::vector<double> refit_data_weight_;
