@@ -13,7 +13,7 @@
 #include <cmath>
 #include <numbers>
 
-namespace ddsimp::test {
+namespace ddsimp::test::level_relocation {
 namespace {
 
 constexpr int kFine = 32, kStep = 8, kCoarse = kFine / kStep;
@@ -157,4 +157,4 @@ TEST(LevelRelocation, SameBytesOnAnyThreadCount) {
 }
 
 } // namespace
-} // namespace ddsimp::test
+} // namespace ddsimp::test::level_relocation
