@@ -1,8 +1,8 @@
 // A vertex-removal level's vertices moved to other input vertices where the data fits better
 // (level_relocation.h): a level vertex beside a peak in the data moves onto it; every vertex stays
-// an input vertex with its exact position and data; the triangles and the topology stay; locked
-// vertices, and data the level already holds exactly, stay; the result is the same on any number
-// of threads.
+// an input vertex with its exact position and data; the triangles and the topology stay and none
+// folds; locked vertices, and data the level already holds exactly, stay; the result is the same
+// on any number of threads.
 #include "data_error.h"
 #include "data_flips.h"
 #include "level_relocation.h"
