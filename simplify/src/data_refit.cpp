@@ -12,11 +12,6 @@
 namespace ddsimp::detail {
 namespace {
 
-// Offsets of a compressed list: begin[i] .. begin[i + 1] for each i, from counts in begin[1..].
-void prefix_sum(std::vector<uint32_t>& begin) {
-    for (size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
-}
-
 // Conjugate gradients with the diagonal as preconditioner for A x = b, A symmetric positive
 // definite in compressed rows; x holds the first guess and gets the solution.
 void solve(const std::vector<uint32_t>& row_begin, const std::vector<uint32_t>& column,

@@ -20,13 +20,18 @@ struct Landing {
     std::array<double, 3> weights{};
 };
 
+// Offsets of a compressed list: begin[i] .. begin[i + 1] for each i, from counts in begin[1..].
+inline void prefix_sum(std::vector<uint32_t>& begin) {
+    for (size_t i = 1; i < begin.size(); ++i) begin[i] += begin[i - 1];
+}
+
 // Each level vertex's triangles, in triangle order.
 struct Stars {
     std::vector<uint32_t> begin, triangle;
     explicit Stars(const Surface& level)
         : begin(level.vertex_count() + 1, 0), triangle(level.triangles.size()) {
         for (uint32_t v : level.triangles) ++begin[v + 1];
-        for (size_t v = 1; v < begin.size(); ++v) begin[v] += begin[v - 1];
+        prefix_sum(begin);
         std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
         for (size_t t = 0; t < level.triangle_count(); ++t)
             for (int c = 0; c < 3; ++c) triangle[fill[level.triangles[3 * t + c]]++] = uint32_t(t);

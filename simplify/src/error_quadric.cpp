@@ -311,10 +311,7 @@ Vec3 ErrorQuadrics::sideways(const SegmentSlope& slope, double t, const Vec3& ax
     if (inv_diagonal == 0) return {0, 0, 0};
     const Vec3 g = detail::add(slope.slope0, scale(slope.slope1, t));
     // Two directions across the axis; the 2x2 problem in them, solved by its eigenvectors.
-    Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    u1 = sub(u1, scale(axis, dot(u1, axis)));
-    u1 = scale(u1, 1 / norm(u1));
-    const Vec3 u2 = cross(axis, u1);
+    const auto [u1, u2] = detail::plane_across(axis);
     const Vec3 au1 = symmetric_times(slope.a, u1), au2 = symmetric_times(slope.a, u2);
     const double h11 = dot(u1, au1), h12 = dot(u1, au2), h22 = dot(u2, au2);
     const double r[2] = {-dot(u1, g), -dot(u2, g)};

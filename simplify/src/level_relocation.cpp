@@ -281,13 +281,10 @@ private:
                 joint(source_[k], &star.ring_joint[star.ring_joint.size() - dims_]);
             }
         }
-        // The plane: any two unit vectors perpendicular to the mean normal, and to each other.
+        // The plane across the mean normal.
         const double length = norm(axis);
-        axis = length > 0 ? scale(axis, 1 / length) : Vec3{0, 0, 1};
-        star.e1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-        star.e1 = sub(star.e1, scale(axis, dot(star.e1, axis)));
-        star.e1 = scale(star.e1, 1 / norm(star.e1));
-        star.e2 = cross(axis, star.e1);
+        const auto across = plane_across(length > 0 ? scale(axis, 1 / length) : Vec3{0, 0, 1});
+        star.e1 = across[0], star.e2 = across[1];
         for (const auto& p : star.points) {
             const auto a = star.project(p[1]), b = star.project(p[2]);
             star.ring_2d.push_back({a[0], a[1], b[0], b[1]});

@@ -299,10 +299,7 @@ bool Simplifier::plan_removal(uint32_t v, RemovalPlan& plan) const {
     const double nn = norm(normal);
     if (!(nn > 0)) return false;
     const Vec3 axis = scale(normal, 1 / nn);
-    Vec3 e1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-    e1 = sub(e1, scale(axis, dot(e1, axis)));
-    e1 = scale(e1, 1 / norm(e1));
-    const Vec3 e2 = cross(axis, e1);
+    const auto [e1, e2] = plane_across(axis);
     double xyh[kMaxValence][3];
     const Vec3 centre = mesh_.point(v);
     for (size_t i = 0; i < n; ++i) {

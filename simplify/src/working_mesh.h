@@ -59,6 +59,14 @@ inline Vec3 cross(const Vec3& a, const Vec3& b) {
 inline double norm(const Vec3& a) {
     return std::sqrt(dot(a, a));
 }
+// Two unit vectors across the unit vector `axis`, perpendicular to each other, (u1, u2, axis)
+// right-handed: a frame of the plane across an axis.
+inline std::array<Vec3, 2> plane_across(const Vec3& axis) {
+    Vec3 u1 = std::abs(axis[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+    u1 = sub(u1, scale(axis, dot(u1, axis)));
+    u1 = scale(u1, 1 / norm(u1));
+    return {u1, cross(axis, u1)};
+}
 // Vertex v of a surface's positions (three floats per vertex).
 inline Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
     return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
