@@ -1,6 +1,7 @@
 // ddsimp_bench: time to reduce one real surface to 10% of its triangles for meshoptimizer's
 // meshopt_simplify (geometry only, one thread: the baseline) and both ddsimp strategies, each on
-// 1, 2, 4, 8 and 16 threads (the argument `threads`).
+// 1, 2, 4, 8 and 16 threads (the argument `threads`); and vertex removal to 0.1%, the coarse end
+// of a record, where each level vertex stands for a thousand input vertices.
 //
 //   ddsimp_bench [--surface=PATH | PATH] [Google Benchmark flags]
 //
@@ -36,13 +37,13 @@ ddsimp::Surface g_surface; // loaded once in main, never modified
 bool g_failed = false;     // a benchmark reported an error
 
 // The same triangle target for every simplifier: at most 10% of the input's triangles.
-size_t target_triangles() {
-    return static_cast<size_t>(static_cast<double>(g_surface.triangle_count()) * kKeepFraction);
+size_t target_triangles(double keep = kKeepFraction) {
+    return static_cast<size_t>(static_cast<double>(g_surface.triangle_count()) * keep);
 }
 
-void report_triangles(benchmark::State& state, size_t in, size_t out) {
+void report_triangles(benchmark::State& state, size_t in, size_t out, double keep = kKeepFraction) {
     state.counters["triangles_in"] = static_cast<double>(in);
-    state.counters["target"] = static_cast<double>(target_triangles());
+    state.counters["target"] = static_cast<double>(target_triangles(keep));
     state.counters["triangles_out"] = static_cast<double>(out);
     state.counters["reached_fraction"] =
         in ? static_cast<double>(out) / static_cast<double>(in) : 0;
@@ -71,12 +72,13 @@ void BM_meshopt_simplify(benchmark::State& state) {
 }
 
 void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
-               ddsimp::Placement placement = ddsimp::Placement::Midpoint) {
+               ddsimp::Placement placement = ddsimp::Placement::Midpoint,
+               double keep = kKeepFraction) {
     ddsimp::Options options;
     options.alpha = kAlpha;
     options.strategy = strategy;
     options.placement = placement;
-    options.target_triangles = target_triangles();
+    options.target_triangles = target_triangles(keep);
     options.threads = int(state.range(0));
     size_t in = 0, out = 0, operations = 0;
     bool reached = false;
@@ -95,7 +97,7 @@ void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
         }
     }
     if (state.error_occurred()) return;
-    report_triangles(state, in, out);
+    report_triangles(state, in, out, keep);
     state.counters["operations"] = static_cast<double>(operations);
     state.counters["target_reached"] = reached ? 1 : 0;
 }
@@ -110,6 +112,9 @@ void BM_ddsimp_edge_collapse_least_error(benchmark::State& state) {
 }
 void BM_ddsimp_vertex_removal(benchmark::State& state) {
     BM_ddsimp(state, ddsimp::Strategy::VertexRemoval);
+}
+void BM_ddsimp_vertex_removal_coarse(benchmark::State& state) {
+    BM_ddsimp(state, ddsimp::Strategy::VertexRemoval, ddsimp::Placement::Midpoint, 0.001);
 }
 
 // Wall time (a threaded run's CPU time is the sum over its threads), and the process CPU time as
@@ -134,6 +139,13 @@ BENCHMARK(BM_ddsimp_vertex_removal)
     ->ArgName("threads")
     ->RangeMultiplier(2)
     ->Range(1, 16)
+    ->UseRealTime()
+    ->Unit(benchmark::kSecond);
+BENCHMARK(BM_ddsimp_vertex_removal_coarse)
+    ->Name("ddsimp_VertexRemoval_Keep0.001")
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
     ->UseRealTime()
     ->Unit(benchmark::kSecond);
 

@@ -16,6 +16,11 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // such a level is left as it is.
 constexpr size_t kMaxComponents = 61;
 constexpr size_t kMaxDims = 3 + kMaxComponents;
+// The most samples landed as a star's new centre, the best by the estimate. Landing one costs the
+// star's samples, so without a bound a star costs the square of its samples: on coarse levels,
+// where each vertex stands for thousands, that is most of a run. The move chosen is nearly always
+// among the estimate's first few.
+constexpr size_t kMaxCandidates = 64;
 
 // A star's samples: the input vertices on its triangles, the weight of the star's centre at each
 // one's landing, and each one's joint coordinates and residual there (dims per sample).
@@ -86,8 +91,9 @@ public:
         // floats cannot tell apart (as a flip must, data_flips.cpp).
         const double noise = std::max(1e-9 * c, 1e-12 * double(count + 1));
         // Each sample as the centre, estimated with the weights kept (less its own error, plus
-        // that of the old centre, which lies where the new one is: |d|^2); landed properly in
-        // the estimates' order, each given up once it is no better than the best so far.
+        // that of the old centre, which lies where the new one is: |d|^2); the best
+        // kMaxCandidates landed properly in the estimates' order, each given up once it is no
+        // better than the best so far.
         const double* jv = star.centre_joint.data();
         std::vector<std::pair<double, uint32_t>> order;
         for (uint32_t i = 0; i < count; ++i) {
@@ -99,7 +105,9 @@ public:
             }
             order.emplace_back(a * dd + 2 * db + c - own + dd, i);
         }
-        std::sort(order.begin(), order.end());
+        const size_t tried = std::min(order.size(), kMaxCandidates);
+        std::partial_sort(order.begin(), order.begin() + long(tried), order.end());
+        order.resize(tried);
         double least = c - noise;
         uint32_t chosen = kNoOwner;
         for (const auto& [estimate, i] : order) {
@@ -350,29 +358,50 @@ bool relocate_vertices_for_data(const RefitInput& input, const std::vector<uint8
     const size_t nv = relocation.vertex_count();
     std::vector<uint32_t> sweep(nv);
     for (uint32_t v = 0; v < nv; ++v) sweep[v] = v;
-    std::vector<uint32_t> changed(nv, 0); // per vertex: the last sweep that moved its star
-    std::vector<Move> moves;
+    std::vector<uint8_t> in_sweep(nv, 0);
+    std::vector<uint32_t> waiting(nv, 0); // per vertex: its neighbours before it in the sweep
     bool any = false;
     // Every move lowers the samples' error, so the sweeps would end; most of what they gain is
     // gained in the first three, and each costs about as much as the one before.
     constexpr uint32_t kMaxSweeps = 3;
     for (uint32_t round = 1; round <= kMaxSweeps && !sweep.empty(); ++round) {
-        // Each vertex's best move as the level stands at the sweep's start (on the threads);
-        // each is made in its turn, found again if a move before it has changed its star.
-        moves.assign(sweep.size(), Move{});
-        parallel.for_each(
-            sweep.size(), [&](size_t i) { moves[i] = relocation.best_move(sweep[i]); }, 16);
-        std::vector<uint32_t> near;
-        for (size_t i = 0; i < sweep.size(); ++i) {
+        // The sweep takes its vertices in order, each finding its best move as the moves before
+        // it left the level. A vertex's move depends only on its neighbours' before it: so each
+        // step finds and makes, on the threads, the moves of the vertices whose neighbours
+        // before them are all done. No two of them are neighbours, so no move changes a star
+        // another reads.
+        for (uint32_t v : sweep) in_sweep[v] = 1;
+        parallel.for_each(sweep.size(), [&](size_t i) {
             const uint32_t v = sweep[i];
-            if (changed[v] == round) moves[i] = relocation.best_move(v);
-            if (moves[i].to == kNoOwner) continue;
-            relocation.apply(v, moves[i]);
-            any = true;
-            relocation.for_each_near(v, [&](uint32_t k) {
-                changed[k] = round;
-                near.push_back(k);
-            });
+            relocation.for_each_near(v, [&](uint32_t k) { waiting[v] += k < v && in_sweep[k]; });
+        });
+        std::vector<uint32_t> ready, near;
+        for (uint32_t v : sweep)
+            if (waiting[v] == 0) ready.push_back(v);
+        std::vector<uint8_t> moved;
+        while (!ready.empty()) {
+            moved.assign(ready.size(), 0);
+            parallel.for_each(
+                ready.size(),
+                [&](size_t i) {
+                    Move move = relocation.best_move(ready[i]);
+                    if (move.to == kNoOwner) return;
+                    relocation.apply(ready[i], move);
+                    moved[i] = 1;
+                },
+                16);
+            std::vector<uint32_t> next;
+            for (size_t i = 0; i < ready.size(); ++i) {
+                const uint32_t v = ready[i];
+                in_sweep[v] = 0;
+                relocation.for_each_near(v, [&](uint32_t k) {
+                    if (k > v && in_sweep[k] && --waiting[k] == 0) next.push_back(k);
+                    if (moved[i]) near.push_back(k);
+                });
+                any |= moved[i] != 0;
+            }
+            std::sort(next.begin(), next.end());
+            ready.swap(next);
         }
         std::sort(near.begin(), near.end());
         near.erase(std::unique(near.begin(), near.end()), near.end());

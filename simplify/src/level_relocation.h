@@ -10,20 +10,24 @@
 
 namespace ddsimp::detail {
 
-// Sweeps over the level's vertices in order, moving each interior vertex v to the input vertex,
-// among the samples landed on its star, that lowers the star's weighted squared error most
-// (RefitInput::data_weight, distance_weight): the samples, v's own input vertex now one of them,
-// each landed on the star's triangle over it (seen along the star's mean normal) at its closest
-// point there. Only the star's triangles change; each must keep its normal within
-// input.flat_cos of the old one and none may become a sliver, so the triangles and the topology
-// stay; a vertex on a feature edge (input.feature_cos) stays. A sweep after the first visits only
-// the vertices next to the last one's moves; there are at most three. Every move lowers the
-// samples' total error. `source` (per level vertex: its input vertex) and `forward` (per input
-// vertex: where it lies on the level; kNoOwner for the level's own vertices) follow the moves;
-// `locked` (per input vertex, empty: none) marks vertices that stay. Of `input`, only the surface,
-// components, weights, flat_cos and feature_cos are read. Returns whether any vertex moved. The
-// same bytes for any number of threads: the threads only find each vertex's best move, which is
-// then made vertex by vertex, in order, found again where a move before it changed the star.
+// Moves each interior vertex v of the level to the input vertex, among the samples landed on its
+// star, that lowers the star's weighted squared error most (RefitInput::data_weight,
+// distance_weight): the samples, v's own input vertex now one of them, each landed on the star's
+// triangle over it (seen along the star's mean normal) at its closest point there. Only the
+// star's triangles change; each must keep its normal within input.flat_cos of the old one and
+// none may become a sliver, so the triangles and the topology stay; a vertex on a feature edge
+// (input.feature_cos) stays. Every move lowers the samples' total error.
+//
+// A sweep takes its vertices in order, each finding its best move as the moves before it left the
+// level; one after the first visits only the vertices next to the last one's moves; there are at
+// most three. The threads take at once the vertices whose neighbours before them in the sweep are
+// done (no two of them neighbours), so the moves are those of the sweep in order, and the bytes
+// are the same for any number of threads.
+//
+// `source` (per level vertex: its input vertex) and `forward` (per input vertex: where it lies on
+// the level; kNoOwner for the level's own vertices) follow the moves; `locked` (per input vertex,
+// empty: none) marks vertices that stay. Of `input`, only the surface, components, weights,
+// flat_cos and feature_cos are read. Returns whether any vertex moved.
 bool relocate_vertices_for_data(const RefitInput& input, const std::vector<uint8_t>& locked,
                                 std::vector<uint32_t>& source, std::vector<Landing>& forward,
                                 Surface& level, Parallel& parallel);
