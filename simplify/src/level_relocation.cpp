@@ -21,12 +21,19 @@ constexpr size_t kMaxDims = 3 + kMaxComponents;
 // where each vertex stands for thousands, that is most of a run. The move chosen is nearly always
 // among the estimate's first few.
 constexpr size_t kMaxCandidates = 64;
+// A sum of a star's samples in another order differs by far less than this part of it.
+constexpr double kOrderMargin = 1e-9;
 
 // A star's samples: the input vertices on its triangles, the weight of the star's centre at each
 // one's landing, and each one's joint coordinates and residual there (dims per sample).
 struct StarSamples {
     std::vector<uint32_t> vertex;
     std::vector<double> centre_weight, joint, residual;
+    std::vector<uint32_t> by_error; // the samples, the most error at the old centre first
+
+    void clear() {
+        vertex.clear(), centre_weight.clear(), joint.clear(), residual.clear(), by_error.clear();
+    }
 };
 
 // Where a star's centre would go: the input vertex, and the samples' landings there.
@@ -62,9 +69,13 @@ public:
         if (!interior(v) || (!locked_.empty() && locked_[source_[v]])) return best;
         // The samples and their error; with them, the sums that price moving the centre by d
         // with every sample's weights kept: the sum of |w d + r|^2 is A |d|^2 + 2 d.B + C.
-        const Star star = star_of(v);
+        // Each thread keeps its star's arrays from call to call.
+        static thread_local Scratch scratch;
+        Star& star = scratch.star;
+        star_of(v, star);
         if (!star.smooth(input_.feature_cos)) return best;
-        StarSamples samples;
+        StarSamples& samples = scratch.samples;
+        samples.clear();
         std::array<double, kMaxDims> b{}, r;
         double a = 0, c = 0;
         for (size_t i = 0; i < star.triangle.size(); ++i) {
@@ -87,6 +98,19 @@ public:
         }
         const size_t count = samples.vertex.size();
         if (count == 0) return best;
+        {
+            std::vector<std::pair<double, uint32_t>>& errors = scratch.order;
+            errors.resize(count);
+            for (uint32_t i = 0; i < count; ++i) {
+                const double* ru = &samples.residual[i * dims_];
+                double e = 0;
+                for (size_t k = 0; k < dims_; ++k) e += ru[k] * ru[k];
+                errors[i] = {-e, i};
+            }
+            std::sort(errors.begin(), errors.end());
+            samples.by_error.resize(count);
+            for (uint32_t i = 0; i < count; ++i) samples.by_error[i] = errors[i].second;
+        }
         // A move must lower the error by more than rounding and than differences the data's
         // floats cannot tell apart (as a flip must, data_flips.cpp).
         const double noise = std::max(1e-9 * c, 1e-12 * double(count + 1));
@@ -95,7 +119,8 @@ public:
         // kMaxCandidates landed properly in the estimates' order, each given up once it is no
         // better than the best so far.
         const double* jv = star.centre_joint.data();
-        std::vector<std::pair<double, uint32_t>> order;
+        std::vector<std::pair<double, uint32_t>>& order = scratch.order;
+        order.clear();
         for (uint32_t i = 0; i < count; ++i) {
             const double *ju = &samples.joint[i * dims_], *ru = &samples.residual[i * dims_];
             double dd = 0, db = 0, own = 0;
@@ -105,13 +130,21 @@ public:
             }
             order.emplace_back(a * dd + 2 * db + c - own + dd, i);
         }
-        const size_t tried = std::min(order.size(), kMaxCandidates);
-        std::partial_sort(order.begin(), order.begin() + long(tried), order.end());
-        order.resize(tried);
+        if (order.size() > kMaxCandidates) {
+            std::nth_element(order.begin(), order.begin() + long(kMaxCandidates), order.end());
+            order.resize(kMaxCandidates);
+        }
+        std::sort(order.begin(), order.end());
         double least = c - noise;
         uint32_t chosen = kNoOwner;
         for (const auto& [estimate, i] : order) {
             if (!star.keeps(point_of(in_.positions, samples.vertex[i]), input_.flat_cos)) continue;
+            // First with the samples of most error first, to give most candidates up soon;
+            // what that cannot rule out is landed again in the samples' own order, so that the
+            // sums, and the choice, do not depend on the first order.
+            if (landed_error(star, samples, i, least * (1 + kOrderMargin), nullptr,
+                             &samples.by_error) == kInfinity)
+                continue;
             const double e = landed_error(star, samples, i, least, nullptr);
             if (e < least) least = e, chosen = i;
         }
@@ -169,6 +202,12 @@ private:
         Vec3 e1{}, e2{};
         std::vector<std::array<double, 4>> ring_2d;
 
+        void clear() {
+            triangle.clear(), points.clear(), order.clear(), normal.clear();
+            centre_joint.clear(), ring_joint.clear(), ring_2d.clear();
+            area = 0;
+        }
+
         std::array<double, 2> project(const Vec3& p) const { return {dot(p, e1), dot(p, e2)}; }
         // The triangle whose sector, seen from the centre at x (projected: cx), holds p's
         // projection; if none does (the projection folds the star), the nearest.
@@ -212,6 +251,12 @@ private:
             return true;
         }
     };
+    struct Scratch {
+        Star star;
+        StarSamples samples;
+        std::vector<std::pair<double, uint32_t>> order;
+    };
+
     Corners corners(uint32_t t) const {
         const uint32_t* k = &level_.triangles[3 * size_t(t)];
         return {k[0], k[1], k[2]};
@@ -263,8 +308,8 @@ private:
         return e;
     }
 
-    Star star_of(uint32_t v) const {
-        Star star;
+    void star_of(uint32_t v, Star& star) const {
+        star.clear();
         star.centre = v;
         Vec3 axis{0, 0, 0};
         star.centre_joint.resize(dims_);
@@ -297,7 +342,6 @@ private:
             const auto a = star.project(p[1]), b = star.project(p[2]);
             star.ring_2d.push_back({a[0], a[1], b[0], b[1]});
         }
-        return star;
     }
 
     // The star's samples but sample `to`, and the centre's input vertex, each landed on the
@@ -305,7 +349,8 @@ private:
     // closest point there: their total error, or infinity once it reaches `bound`. The landings
     // go to `landed`, if given.
     double landed_error(const Star& star, const StarSamples& samples, uint32_t to, double bound,
-                        std::vector<std::pair<uint32_t, Landing>>* landed) const {
+                        std::vector<std::pair<uint32_t, Landing>>* landed,
+                        const std::vector<uint32_t>* order = nullptr) const {
         const uint32_t u = samples.vertex[to];
         const Vec3 x = point_of(in_.positions, u);
         const double* centre = &samples.joint[to * dims_];
@@ -326,8 +371,8 @@ private:
             }
         };
         land(source_[star.centre], star.centre_joint.data());
-        for (uint32_t i = 0; i < samples.vertex.size(); ++i)
-            if (i != to) {
+        for (uint32_t n = 0; n < samples.vertex.size(); ++n)
+            if (const uint32_t i = order ? (*order)[n] : n; i != to) {
                 if (total >= bound) return kInfinity;
                 land(samples.vertex[i], &samples.joint[i * dims_]);
             }
