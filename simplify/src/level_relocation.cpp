@@ -68,13 +68,13 @@ public:
     Move best_move(uint32_t v) const {
         Move best;
         if (!interior(v) || (!locked_.empty() && locked_[source_[v]])) return best;
-        // The samples and their error; with them, the sums that price moving the centre by d
-        // with every sample's weights kept: the sum of |w d + r|^2 is A |d|^2 + 2 d.B + C.
         // Each thread keeps its star's arrays from call to call.
         static thread_local Scratch scratch;
         Star& star = scratch.star;
         star_of(v, star);
         if (!star.smooth(input_.feature_cos)) return best;
+        // The samples and their error; with them, the sums that price moving the centre by d
+        // with every sample's weights kept: the sum of |w d + r|^2 is A |d|^2 + 2 d.B + C.
         StarSamples& samples = scratch.samples;
         samples.clear();
         std::array<double, kMaxDims> b{}, r;
@@ -99,7 +99,7 @@ public:
         }
         const size_t count = samples.vertex.size();
         if (count == 0) return best;
-        {
+        { // the samples by their error at the old centre, the most first
             std::vector<std::pair<double, uint32_t>>& errors = scratch.order;
             errors.resize(count);
             for (uint32_t i = 0; i < count; ++i) {
