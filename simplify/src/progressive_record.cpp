@@ -166,7 +166,7 @@ Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
-    if (fit_data && !refit_components_.empty() && operations > 0) refit(operations, index, out);
+    if (fit_data && refit_diagonal_ > 0 && operations > 0) refit(operations, index, out);
     return out;
 }
 

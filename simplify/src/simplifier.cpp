@@ -96,9 +96,11 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (quadric_terms_ || least_error_)
         quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity,
                         parallel_);
-    // Edge collapse's levels fit these components' least squares to their new points; both
-    // strategies' levels flip their edges where these components fit the input better.
-    if (collapse ? least_data() : quadric_terms_ && quadrics_.components > 0) {
+    // Edge collapse's levels fit these components' least squares to their new points and flip
+    // their edges where these components fit the input better. Vertex removal's levels move their
+    // vertices and flip their edges where the input's samples fit better, in these components and
+    // in distance: with no component (at α = 1, or with no data) in distance alone.
+    if (collapse ? least_data() : quadric_terms_ && quadrics_.inv_diagonal > 0) {
         for (size_t j = 0; j < quadrics_.components; ++j) {
             if (!quadrics_.continuous[j]) continue;
             uint32_t field = 0, first = 0; // the field of data-record offset quadrics_.offset[j]
@@ -112,7 +114,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         // nearly flat, and never across a feature edge.
         record_.refit_distance_weight_ =
             geometry_weight() * quadrics_.inv_diagonal * quadrics_.inv_diagonal;
-        record_.refit_diagonal_ = 1 / quadrics_.inv_diagonal; // not 0: there are components
+        record_.refit_diagonal_ = 1 / quadrics_.inv_diagonal; // > 0: the levels are refitted
         record_.refit_feature_cos_ = mesh_.limits.feature_cos;
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);

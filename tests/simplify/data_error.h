@@ -1,5 +1,6 @@
-// The data error of a reduction measured by brute force, independent of the library's level
-// error: every vertex of each surface against the other's data at its closest point.
+// The data and distance errors of a reduction measured by brute force, independent of the
+// library's level error: every vertex of each surface against the other surface at its closest
+// point.
 #pragma once
 
 #include "test_surfaces.h"
@@ -46,6 +47,30 @@ inline double two_way_data_rms(const Surface& input, const Surface& level) {
         sum += std::pow(fi.values[v] - value_at_closest(level, fl, position(input, v)), 2);
     for (size_t v = 0; v < level.vertex_count(); ++v)
         sum += std::pow(fl.values[v] - value_at_closest(input, fi, position(level, v)), 2);
+    return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
+}
+
+// The squared distance from p to the closest point of `s` (every triangle tried).
+inline double squared_distance_to(const Surface& s, const Vec3& p) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t t = 0; t < s.triangle_count(); ++t) {
+        const auto c = corners(s, t);
+        const detail::ClosestPoint q =
+            detail::closest_on_triangle(p, position(s, c[0]), position(s, c[1]), position(s, c[2]));
+        const Vec3 d = q.point - p;
+        best = std::min(best, dot(d, d));
+    }
+    return best;
+}
+
+// The RMS of the distances over both sets of samples: every vertex of each surface to the
+// other surface.
+inline double two_way_distance_rms(const Surface& input, const Surface& level) {
+    double sum = 0;
+    for (size_t v = 0; v < input.vertex_count(); ++v)
+        sum += squared_distance_to(level, position(input, v));
+    for (size_t v = 0; v < level.vertex_count(); ++v)
+        sum += squared_distance_to(input, position(level, v));
     return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
 }
 

@@ -193,7 +193,8 @@ TEST(DataFlips, InTheLevelsOfARun) {
 // Vertex removal's levels keep input vertices and their data: after() flips edges of the
 // recorded level, and moves vertices to other input vertices (level_relocation.h), where the data
 // fits better; it keeps the topology and gives the same bytes on any number of threads. At
-// alpha = 1 the data weighs nothing: nothing is flipped or moved.
+// alpha = 1 the data weighs nothing, and on this plane no flip or move lowers the distance:
+// nothing changes.
 TEST(DataFlips, InTheLevelsOfAVertexRemovalRun) {
     const Surface in = creased_grid();
     Options o = whole_run(Strategy::VertexRemoval);
