@@ -49,9 +49,11 @@ struct Move {
 class LevelRelocation {
 public:
     LevelRelocation(const RefitInput& input, const std::vector<uint8_t>& locked,
-                    std::vector<uint32_t>& source, std::vector<Landing>& forward, Surface& level)
-        : input_(input), in_(*input.surface), locked_(locked), source_(source), forward_(forward),
-          level_(level), stars_(level), dims_(3 + input.components.size()) {
+                    const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
+                    std::vector<Landing>& forward, Surface& level)
+        : input_(input), in_(*input.surface), locked_(locked), boundary_line_(boundary_line),
+          source_(source), forward_(forward), level_(level), stars_(level),
+          dims_(3 + input.components.size()) {
         scale_.push_back(std::sqrt(input.distance_weight));
         for (double w : input.data_weight) scale_.push_back(std::sqrt(w));
         // Each triangle's samples as a list through next_, in input order.
@@ -67,7 +69,15 @@ public:
     // to = kNoOwner if none does (or v may not move). Reads the level only.
     Move best_move(uint32_t v) const {
         Move best;
-        if (!interior(v) || (!locked_.empty() && locked_[source_[v]])) return best;
+        if (!locked_.empty() && locked_[source_[v]]) return best;
+        // A vertex on the boundary moves along it: onto a sample on the boundary's line on one of
+        // its two triangles with a boundary edge at it (`rim`).
+        std::array<uint32_t, 2> ends{}, rim{kNoOwner, kNoOwner};
+        const int fan = fan_ends(v, ends);
+        if (fan == 2 && on_line(source_[v]))
+            rim = {star_triangle_with(v, ends[0]), star_triangle_with(v, ends[1])};
+        else if (fan != 0)
+            return best;
         // Each thread keeps its star's arrays from call to call.
         static thread_local Scratch scratch;
         Star& star = scratch.star;
@@ -123,6 +133,10 @@ public:
         std::vector<std::pair<double, uint32_t>>& order = scratch.order;
         order.clear();
         for (uint32_t i = 0; i < count; ++i) {
+            if (rim[0] != kNoOwner) {
+                const uint32_t s = samples.vertex[i], t = forward_[s].triangle;
+                if (!on_line(s) || (t != rim[0] && t != rim[1])) continue;
+            }
             const double *ju = &samples.joint[i * dims_], *ru = &samples.residual[i * dims_];
             double dd = 0, db = 0, own = 0;
             for (size_t k = 0; k < dims_; ++k) {
@@ -268,19 +282,36 @@ private:
     }
     Vec3 point(uint32_t v) const { return point_of(level_.positions, v); }
 
-    // Whether v's star is a closed fan: each neighbour on exactly two of its triangles.
-    bool interior(uint32_t v) const {
+    bool on_line(uint32_t i) const { return !boundary_line_.empty() && boundary_line_[i]; }
+
+    // v's star as a fan, each neighbour on one or two of its triangles: how many are on one (0: a
+    // closed fan, v interior; 2: v on a boundary it passes once, those two its neighbours along
+    // it, into `ends`), or -1 if it is neither.
+    int fan_ends(uint32_t v, std::array<uint32_t, 2>& ends) const {
         std::vector<uint32_t> ring;
         for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p)
             for (uint32_t k : corners(stars_.triangle[p]))
                 if (k != v) ring.push_back(k);
-        if (ring.empty()) return false;
+        if (ring.empty()) return -1;
         std::sort(ring.begin(), ring.end());
-        for (size_t i = 0; i < ring.size(); i += 2)
-            if (i + 1 == ring.size() || ring[i] != ring[i + 1] ||
-                (i + 2 < ring.size() && ring[i + 2] == ring[i]))
-                return false;
-        return true;
+        int once = 0;
+        for (size_t i = 0; i < ring.size();) {
+            size_t j = i;
+            while (j < ring.size() && ring[j] == ring[i]) ++j;
+            if (j - i > 2 || (j - i == 1 && once == 2)) return -1;
+            if (j - i == 1) ends[size_t(once++)] = ring[i];
+            i = j;
+        }
+        return once == 1 ? -1 : once;
+    }
+
+    // The triangle of v's star with corner k (on a boundary fan's end, there is one).
+    uint32_t star_triangle_with(uint32_t v, uint32_t k) const {
+        for (uint32_t p = stars_.begin[v]; p < stars_.begin[v + 1]; ++p) {
+            const Corners c = corners(stars_.triangle[p]);
+            if (c[0] == k || c[1] == k || c[2] == k) return stars_.triangle[p];
+        }
+        return kNoOwner;
     }
 
     // Input vertex i's joint coordinates.
@@ -383,6 +414,7 @@ private:
     const RefitInput& input_;
     const Surface& in_;
     const std::vector<uint8_t>& locked_;
+    const std::vector<uint8_t>& boundary_line_;
     std::vector<uint32_t>& source_;
     std::vector<Landing>& forward_;
     Surface& level_;
@@ -394,13 +426,14 @@ private:
 
 } // namespace
 
-bool relocate_vertices_for_data(const RefitInput& input, const std::vector<uint8_t>& locked,
-                                std::vector<uint32_t>& source, std::vector<Landing>& forward,
-                                Surface& level, Parallel& parallel) {
+bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
+                             const std::vector<uint8_t>& boundary_line,
+                             std::vector<uint32_t>& source, std::vector<Landing>& forward,
+                             Surface& level, Parallel& parallel) {
     if (!(input.flat_cos <= 1) || level.triangle_count() < 2 ||
         input.components.size() > kMaxComponents)
         return false;
-    LevelRelocation relocation(input, locked, source, forward, level);
+    LevelRelocation relocation(input, locked, boundary_line, source, forward, level);
     const size_t nv = relocation.vertex_count();
     std::vector<uint32_t> sweep(nv);
     for (uint32_t v = 0; v < nv; ++v) sweep[v] = v;

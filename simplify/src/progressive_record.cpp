@@ -191,7 +191,8 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
         std::vector<uint32_t> source(level.vertex_count());
         for (size_t v = 0; v < input_vertices_; ++v)
             if (index[v] != detail::kNoOwner) source[index[v]] = uint32_t(v);
-        detail::relocate_vertices_for_data(input, locked_input_, source, landed, level, parallel);
+        detail::relocate_level_vertices(input, locked_input_, boundary_line_input_, source, landed,
+                                        level, parallel);
         detail::flip_edges_for_data(input, landed, level, parallel);
         return;
     }

@@ -118,6 +118,12 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         record_.refit_feature_cos_ = mesh_.limits.feature_cos;
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
+        if (!collapse) { // the input vertices a level vertex may move to along the boundary
+            record_.boundary_line_input_.resize(n);
+            for (uint32_t v = 0; v < n; ++v)
+                record_.boundary_line_input_[v] =
+                    mesh_.kind[rank_[v]] == VertexKind::Line && mesh_.is_boundary_vertex(rank_[v]);
+        }
         if (!mesh_.locked.empty()) {
             record_.locked_input_.resize(n);
             for (uint32_t v = 0; v < n; ++v) record_.locked_input_[v] = mesh_.locked[rank_[v]];

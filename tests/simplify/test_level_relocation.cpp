@@ -1,8 +1,9 @@
-// A vertex-removal level's vertices moved to other input vertices where the data fits better
+// A vertex-removal level's vertices moved to other input vertices where the input fits better
 // (level_relocation.h): a level vertex beside a peak in the data moves onto it; every vertex stays
 // an input vertex with its exact position and data; the triangles and the topology stay and none
 // folds; locked vertices, and data the level already holds exactly, stay; the result is the same
-// on any number of threads; where the data weighs nothing, the surface decides the moves.
+// on any number of threads; a boundary vertex moves only along the boundary; where the data
+// weighs nothing, the surface decides the moves.
 #include "data_error.h"
 #include "data_flips.h"
 #include "level_relocation.h"
@@ -72,9 +73,10 @@ struct LevelCase {
         refit.flat_cos = std::cos(detail::kFlipFlatDegrees * std::numbers::pi / 180);
     }
 
-    bool relocate(int threads = 1) {
+    bool relocate(int threads = 1, const std::vector<uint8_t>& boundary_line = {}) {
         detail::Parallel parallel(threads);
-        return detail::relocate_vertices_for_data(refit, locked, source, forward, level, parallel);
+        return detail::relocate_level_vertices(refit, locked, boundary_line, source, forward, level,
+                                               parallel);
     }
 
     // Each level vertex is its source input vertex, with that vertex's position and data.
@@ -110,6 +112,61 @@ TEST(LevelRelocation, MovesAVertexOntoAPeakInTheData) {
     // The input vertex left behind lands on the level; the peak is the level's own.
     EXPECT_NE(c.forward[grid_index(kFine, kFine / 2, kFine / 2)].triangle, detail::kNoOwner);
     EXPECT_EQ(c.forward[grid_index(kFine, kPeakI, kPeakJ)].triangle, detail::kNoOwner);
+}
+
+// The input's boundary vertices but its four corners: where the boundary runs on.
+std::vector<uint8_t> boundary_line(const Surface& input) {
+    std::vector<uint8_t> line(input.vertex_count(), 0);
+    for (int k = 1; k < kFine; ++k)
+        for (uint32_t v : {grid_index(kFine, k, 0), grid_index(kFine, k, kFine),
+                           grid_index(kFine, 0, k), grid_index(kFine, kFine, k)})
+            line[v] = 1;
+    return line;
+}
+
+// A peak in the data on the boundary, three fine cells right of the level vertex (2, 0), or one
+// cell inside it.
+double peak_at(const Vec3& p, int j) {
+    const double dx = p[0] - double(kPeakI) / kFine, dy = p[1] - double(j) / kFine;
+    return std::exp(-(dx * dx + dy * dy) * 200);
+}
+double boundary_peak(const Vec3& p) {
+    return peak_at(p, 0);
+}
+double peak_inside(const Vec3& p) {
+    return peak_at(p, 1);
+}
+constexpr uint32_t kOnBoundary = 2; // the level vertex (2, 0), at the middle of the bottom edge
+
+// A boundary vertex moves along the boundary onto the peak; without the input's boundary line
+// given, boundary vertices stay.
+TEST(LevelRelocation, MovesABoundaryVertexAlongTheBoundary) {
+    LevelCase c(boundary_peak);
+    const std::vector<uint8_t> line = boundary_line(c.input);
+    const double error_before = two_way_data_rms(c.input, c.level);
+    EXPECT_TRUE(c.relocate(1, line));
+    EXPECT_EQ(c.source[kOnBoundary], grid_index(kFine, kPeakI, 0));
+    EXPECT_EQ(c.level.fields[0].values[kOnBoundary], 1.0f);
+    EXPECT_TRUE(c.vertices_are_the_inputs());
+    EXPECT_LT(two_way_data_rms(c.input, c.level), 0.5 * error_before);
+
+    LevelCase stays(boundary_peak);
+    stays.relocate();
+    EXPECT_EQ(stays.source[kOnBoundary], grid_index(kFine, kFine / 2, 0));
+}
+
+// With the peak one cell inside, the boundary vertex may not leave the boundary for it: every
+// level vertex on the boundary stays on it.
+TEST(LevelRelocation, ABoundaryVertexNeverLeavesTheBoundary) {
+    LevelCase c(peak_inside);
+    c.relocate(1, boundary_line(c.input));
+    EXPECT_TRUE(c.vertices_are_the_inputs());
+    for (int k = 0; k <= kCoarse; ++k)
+        for (uint32_t v : {uint32_t(k), uint32_t(kCoarse * (kCoarse + 1) + k),
+                           uint32_t(k * (kCoarse + 1)), uint32_t(k * (kCoarse + 1) + kCoarse)}) {
+            const Vec3 p = position(c.level, v);
+            EXPECT_TRUE(p[0] == 0 || p[0] == 1 || p[1] == 0 || p[1] == 1) << "level vertex " << v;
+        }
 }
 
 TEST(LevelRelocation, LockedVerticesStay) {

@@ -300,8 +300,10 @@ public:
     // The surface after the first `operations` operations (0 = the repaired input). With edge
     // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level.
     // With vertex removal and the error quadrics, its vertices may move to other input vertices
-    // (with their data) where the data fits better. With either, where the surface is nearly
-    // flat, its edges are flipped where the data fits better (neither at alpha = 1).
+    // (with their data) where the input fits better: its data and, as the quadrics weigh it, its
+    // surface (at alpha = 1, or with no data, the surface alone). With either, where the surface
+    // is nearly flat, its edges are flipped where the input fits better (edge collapse: not at
+    // alpha = 1).
     Surface after(size_t operations) const;
     // The same level with each vertex's data as vertices() carries it, never fitted, nor its
     // edges flipped, nor its vertices moved: what a refinement stream (vertices() and
@@ -359,13 +361,15 @@ private:
     // after() fits to the input over the whole level (data_refit.h). With that, or vertex
     // removal with the error quadrics: which input vertices are locked (empty: none), whose data
     // and that of the points placed on them stay and which vertex removal's moves never move
-    // (level_relocation.h); the components a flip of the level's edges or a move weighs
-    // (data_flips.h), the weight of each one's squared difference and of a squared distance,
-    // the least cosine between the normals it flips or moves across, that across an edge that is
-    // no feature edge (a vertex on a feature edge is not moved), and the input's bounding-box
-    // diagonal (vertex removal's scale of a tie between two distances).
+    // (level_relocation.h), and (vertex removal) which input vertices are on the boundary where
+    // it runs on, to which its moves may take a boundary vertex; the components a flip of the
+    // level's edges or a move weighs (data_flips.h), the weight of each one's squared difference
+    // and of a squared distance, the least cosine between the normals it flips or moves across,
+    // that across an edge that is no feature edge (a vertex on a feature edge is not moved), and
+    // the input's bounding-box diagonal (vertex removal's scale of a tie between two distances).
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
+    std::vector<uint8_t> boundary_line_input_;
     std::vector<double> refit_data_weight_;
     double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_feature_cos_ = -2,
            refit_diagonal_ = 0;
