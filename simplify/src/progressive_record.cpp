@@ -166,7 +166,11 @@ Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     }
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
-    if (fit_data && refit_diagonal_ > 0 && operations > 0) refit(operations, index, out);
+    // Edge collapse fits its data components; vertex removal moves vertices and flips edges,
+    // by the distance alone if there is no component.
+    const bool refitted =
+        strategy_ == Strategy::VertexRemoval ? refit_diagonal_ > 0 : !refit_components_.empty();
+    if (fit_data && refitted && operations > 0) refit(operations, index, out);
     return out;
 }
 
