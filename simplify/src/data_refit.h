@@ -59,6 +59,10 @@ struct RefitInput {
     std::vector<double> data_weight;
     double distance_weight = 0;
     double flat_cos = 2;
+    // The least cosine between a triangle's normals before and after a vertex-removal level's
+    // move where no data weighs (no component): the run's normal-turn limit
+    // (Options::max_normal_turn), as for any of its operations (level_relocation.h).
+    double turn_cos = 2;
     // The least cosine between the normals of two triangles across an edge that is no feature
     // edge (Options::feature_angle; -2: none): a vertex-removal level's vertex on a feature edge
     // is not moved (level_relocation.h).

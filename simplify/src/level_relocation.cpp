@@ -53,7 +53,8 @@ public:
                     std::vector<Landing>& forward, Surface& level)
         : input_(input), in_(*input.surface), locked_(locked), boundary_line_(boundary_line),
           source_(source), forward_(forward), level_(level), stars_(level),
-          dims_(3 + input.components.size()) {
+          dims_(3 + input.components.size()),
+          keep_cos_(input.components.empty() ? input.turn_cos : input.flat_cos) {
         scale_.push_back(std::sqrt(input.distance_weight));
         for (double w : input.data_weight) scale_.push_back(std::sqrt(w));
         // Each triangle's samples as a list through next_, in input order.
@@ -153,7 +154,7 @@ public:
         double least = c - noise;
         uint32_t chosen = kNoOwner;
         for (const auto& [estimate, i] : order) {
-            if (!star.keeps(point_of(in_.positions, samples.vertex[i]), input_.flat_cos)) continue;
+            if (!star.keeps(point_of(in_.positions, samples.vertex[i]), keep_cos_)) continue;
             // First with the samples of most error first, to give most candidates up soon;
             // what that cannot rule out is landed again in the samples' own order, so that the
             // sums, and the choice, do not depend on the first order.
@@ -420,6 +421,10 @@ private:
     Surface& level_;
     const Stars stars_;
     const size_t dims_;
+    // How far a move may turn a triangle's normal: where data weighs, only across nearly flat
+    // stars, so that the data does not pull the surface away; by the distance alone, as far as
+    // the run lets any operation turn it.
+    const double keep_cos_;
     std::vector<double> scale_; // the square root of the distance's weight, then each datum's
     std::vector<uint32_t> head_, next_;
 };
@@ -430,8 +435,8 @@ bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>
                              const std::vector<uint8_t>& boundary_line,
                              std::vector<uint32_t>& source, std::vector<Landing>& forward,
                              Surface& level, Parallel& parallel) {
-    if (!(input.flat_cos <= 1) || level.triangle_count() < 2 ||
-        input.components.size() > kMaxComponents)
+    if (!((input.components.empty() ? input.turn_cos : input.flat_cos) <= 1) ||
+        level.triangle_count() < 2 || input.components.size() > kMaxComponents)
         return false;
     LevelRelocation relocation(input, locked, boundary_line, source, forward, level);
     const size_t nv = relocation.vertex_count();

@@ -17,8 +17,9 @@ namespace ddsimp::detail {
 // any of them; a vertex on the boundary, where it runs on (`boundary_line`), moves along it: only
 // to a sample on the boundary's line too, on one of its two triangles with a boundary edge at v.
 // Only the star's triangles change; each must keep its normal within input.flat_cos of the old
-// one and none may become a sliver, so the triangles and the topology stay; a vertex on a
-// feature edge (input.feature_cos) stays. Every move lowers the samples' total error.
+// one (input.turn_cos when there is no component: the distance alone decides) and none may
+// become a sliver, so the triangles and the topology stay; a vertex on a feature edge
+// (input.feature_cos) stays. Every move lowers the samples' total error.
 //
 // A sweep takes its vertices in order, each finding its best move as the moves before it left the
 // level; one after the first visits only the vertices next to the last one's moves; there are at
@@ -30,8 +31,8 @@ namespace ddsimp::detail {
 // the level; kNoOwner for the level's own vertices) follow the moves; `locked` (per input vertex,
 // empty: none) marks vertices that stay; `boundary_line` (per input vertex, empty: none) marks
 // those on the input's boundary where it runs on, neither a corner nor a complex vertex (a Line
-// vertex on a boundary). Of `input`, only the surface, components, weights, flat_cos and
-// feature_cos are read. Returns whether any vertex moved.
+// vertex on a boundary). Of `input`, only the surface, components, weights, flat_cos, turn_cos
+// and feature_cos are read. Returns whether any vertex moved.
 bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
                              const std::vector<uint8_t>& boundary_line,
                              std::vector<uint32_t>& source, std::vector<Landing>& forward,

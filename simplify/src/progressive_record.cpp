@@ -184,6 +184,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.data_weight = refit_data_weight_;
     input.distance_weight = refit_distance_weight_;
     input.flat_cos = refit_flat_cos_;
+    input.turn_cos = refit_turn_cos_;
     input.feature_cos = refit_feature_cos_;
     detail::Parallel parallel(threads_);
     if (strategy_ == Strategy::VertexRemoval) { // input vertices with their data, no value fitted

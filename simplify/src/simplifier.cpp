@@ -118,6 +118,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         record_.refit_feature_cos_ = mesh_.limits.feature_cos;
         record_.refit_flat_cos_ = std::cos(
             std::min(detail::kFlipFlatDegrees, options.feature_angle) * std::numbers::pi / 180.0);
+        record_.refit_turn_cos_ = mesh_.limits.normal_turn_cos;
         if (!collapse) { // the input vertices a level vertex may move to along the boundary
             record_.boundary_line_input_.resize(n);
             for (uint32_t v = 0; v < n; ++v)

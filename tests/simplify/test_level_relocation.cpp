@@ -3,7 +3,7 @@
 // an input vertex with its exact position and data; the triangles and the topology stay and none
 // folds; locked vertices, and data the level already holds exactly, stay; the result is the same
 // on any number of threads; a boundary vertex moves only along the boundary; where the data
-// weighs nothing, the surface decides the moves.
+// weighs nothing, the surface decides the moves, which may then turn the surface further.
 #include "data_error.h"
 #include "data_flips.h"
 #include "level_relocation.h"
@@ -167,6 +167,34 @@ TEST(LevelRelocation, ABoundaryVertexNeverLeavesTheBoundary) {
             const Vec3 p = position(c.level, v);
             EXPECT_TRUE(p[0] == 0 || p[0] == 1 || p[1] == 0 || p[1] == 1) << "level vertex " << v;
         }
+}
+
+// Where no data weighs, the distance alone decides, and a move may turn the star's triangles as
+// far as the run lets any operation (RefitInput::turn_cos), not only as far as where data weighs
+// (flat_cos): beside a steep hill, the level vertex moves onto its top and the level follows the
+// hill far better than when moves may turn the triangles only as far as where data weighs.
+TEST(LevelRelocation, ByTheDistanceAloneAMoveTurnsAsFarAsTheRunAllows) {
+    auto relocated = [](double turn_degrees, uint32_t& middle) {
+        LevelCase c([](const Vec3&) { return 0.0; });
+        for (size_t v = 0; v < c.input.vertex_count(); ++v)
+            c.input.positions[3 * v + 2] = float(0.35 * bump(position(c.input, v)));
+        for (uint32_t v = 0; v < c.level.vertex_count(); ++v)
+            c.level.positions[3 * v + 2] = c.input.positions[3 * size_t(c.source[v]) + 2];
+        c.refit.components.clear();
+        c.refit.data_weight.clear();
+        c.refit.distance_weight = 1;
+        c.refit.turn_cos = std::cos(turn_degrees * std::numbers::pi / 180);
+        const double before = two_way_distance_rms(c.input, c.level);
+        c.relocate();
+        EXPECT_TRUE(c.vertices_are_the_inputs());
+        middle = c.source[kMiddle];
+        return two_way_distance_rms(c.input, c.level) / before;
+    };
+    uint32_t far = 0, flat = 0;
+    const double as_far = relocated(60, far), as_flat = relocated(detail::kFlipFlatDegrees, flat);
+    EXPECT_EQ(far, grid_index(kFine, kPeakI, kPeakJ));
+    EXPECT_NE(flat, grid_index(kFine, kPeakI, kPeakJ));
+    EXPECT_LT(as_far, 0.7 * as_flat);
 }
 
 TEST(LevelRelocation, LockedVerticesStay) {

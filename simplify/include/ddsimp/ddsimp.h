@@ -19,7 +19,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 28;
+inline constexpr int algorithm_version = 29;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -364,15 +364,16 @@ private:
     // (level_relocation.h), and (vertex removal) which input vertices are on the boundary where
     // it runs on, to which its moves may take a boundary vertex; the components a flip of the
     // level's edges or a move weighs (data_flips.h), the weight of each one's squared difference
-    // and of a squared distance, the least cosine between the normals it flips or moves across,
+    // and of a squared distance, the least cosine between the normals it flips or moves across
+    // (and across which a move by the distance alone turns a triangle: the run's normal turn),
     // that across an edge that is no feature edge (a vertex on a feature edge is not moved), and
     // the input's bounding-box diagonal (vertex removal's scale of a tie between two distances).
     std::vector<std::pair<uint32_t, uint32_t>> refit_components_;
     std::vector<uint8_t> locked_input_;
     std::vector<uint8_t> boundary_line_input_;
     std::vector<double> refit_data_weight_;
-    double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_feature_cos_ = -2,
-           refit_diagonal_ = 0;
+    double refit_distance_weight_ = 0, refit_flat_cos_ = 2, refit_turn_cos_ = 2,
+           refit_feature_cos_ = -2, refit_diagonal_ = 0;
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
