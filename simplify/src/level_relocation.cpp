@@ -25,6 +25,13 @@ constexpr size_t kMaxCandidates = 64;
 // A sum of a star's samples in another order differs by far less than this part of it.
 constexpr double kOrderMargin = 1e-9;
 
+// The least cosine between a triangle's normals before and after a move: where data weighs, only
+// across nearly flat stars, so that the data does not pull the surface away; by the distance
+// alone, as far as the run lets any operation turn it. Above 1: no move.
+double move_cos(const RefitInput& input) {
+    return input.components.empty() ? input.turn_cos : input.flat_cos;
+}
+
 // A star's samples: the input vertices on its triangles, the weight of the star's centre at each
 // one's landing, and each one's joint coordinates and residual there (dims per sample).
 struct StarSamples {
@@ -53,8 +60,7 @@ public:
                     std::vector<Landing>& forward, Surface& level)
         : input_(input), in_(*input.surface), locked_(locked), boundary_line_(boundary_line),
           source_(source), forward_(forward), level_(level), stars_(level),
-          dims_(3 + input.components.size()),
-          keep_cos_(input.components.empty() ? input.turn_cos : input.flat_cos) {
+          dims_(3 + input.components.size()), keep_cos_(move_cos(input)) {
         scale_.push_back(std::sqrt(input.distance_weight));
         for (double w : input.data_weight) scale_.push_back(std::sqrt(w));
         // Each triangle's samples as a list through next_, in input order.
@@ -421,10 +427,7 @@ private:
     Surface& level_;
     const Stars stars_;
     const size_t dims_;
-    // How far a move may turn a triangle's normal: where data weighs, only across nearly flat
-    // stars, so that the data does not pull the surface away; by the distance alone, as far as
-    // the run lets any operation turn it.
-    const double keep_cos_;
+    const double keep_cos_;     // move_cos(input_)
     std::vector<double> scale_; // the square root of the distance's weight, then each datum's
     std::vector<uint32_t> head_, next_;
 };
@@ -435,8 +438,8 @@ bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>
                              const std::vector<uint8_t>& boundary_line,
                              std::vector<uint32_t>& source, std::vector<Landing>& forward,
                              Surface& level, Parallel& parallel) {
-    if (!((input.components.empty() ? input.turn_cos : input.flat_cos) <= 1) ||
-        level.triangle_count() < 2 || input.components.size() > kMaxComponents)
+    if (!(move_cos(input) <= 1) || level.triangle_count() < 2 ||
+        input.components.size() > kMaxComponents)
         return false;
     LevelRelocation relocation(input, locked, boundary_line, source, forward, level);
     const size_t nv = relocation.vertex_count();

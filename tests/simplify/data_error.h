@@ -6,6 +6,7 @@
 #include "test_surfaces.h"
 #include "working_mesh.h"
 
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -20,20 +21,31 @@ inline Surface wavy_sphere() {
     return s;
 }
 
-// The field's value at the point of `s` closest to p (every triangle tried).
-inline double value_at_closest(const Surface& s, const Field& f, const Vec3& p) {
-    double best = std::numeric_limits<double>::infinity(), value = 0;
+// The point of `s` closest to p (every triangle tried): its triangle, its barycentric weights and
+// its squared distance to p.
+struct ClosestOn {
+    size_t triangle = 0;
+    std::array<double, 3> weights{};
+    double squared_distance = std::numeric_limits<double>::infinity();
+};
+inline ClosestOn closest_on(const Surface& s, const Vec3& p) {
+    ClosestOn best;
     for (size_t t = 0; t < s.triangle_count(); ++t) {
         const auto c = corners(s, t);
         const detail::ClosestPoint q =
             detail::closest_on_triangle(p, position(s, c[0]), position(s, c[1]), position(s, c[2]));
         const Vec3 d = q.point - p;
-        if (dot(d, d) < best) {
-            best = dot(d, d);
-            value = 0;
-            for (int k = 0; k < 3; ++k) value += q.weights[size_t(k)] * f.values[c[size_t(k)]];
-        }
+        if (dot(d, d) < best.squared_distance) best = {t, q.weights, dot(d, d)};
     }
+    return best;
+}
+
+// The field's value at the point of `s` closest to p.
+inline double value_at_closest(const Surface& s, const Field& f, const Vec3& p) {
+    const ClosestOn q = closest_on(s, p);
+    const auto c = corners(s, q.triangle);
+    double value = 0;
+    for (int k = 0; k < 3; ++k) value += q.weights[size_t(k)] * f.values[c[size_t(k)]];
     return value;
 }
 
@@ -50,27 +62,14 @@ inline double two_way_data_rms(const Surface& input, const Surface& level) {
     return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
 }
 
-// The squared distance from p to the closest point of `s` (every triangle tried).
-inline double squared_distance_to(const Surface& s, const Vec3& p) {
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t t = 0; t < s.triangle_count(); ++t) {
-        const auto c = corners(s, t);
-        const detail::ClosestPoint q =
-            detail::closest_on_triangle(p, position(s, c[0]), position(s, c[1]), position(s, c[2]));
-        const Vec3 d = q.point - p;
-        best = std::min(best, dot(d, d));
-    }
-    return best;
-}
-
 // The RMS of the distances over both sets of samples: every vertex of each surface to the
 // other surface.
 inline double two_way_distance_rms(const Surface& input, const Surface& level) {
     double sum = 0;
     for (size_t v = 0; v < input.vertex_count(); ++v)
-        sum += squared_distance_to(level, position(input, v));
+        sum += closest_on(level, position(input, v)).squared_distance;
     for (size_t v = 0; v < level.vertex_count(); ++v)
-        sum += squared_distance_to(input, position(level, v));
+        sum += closest_on(input, position(level, v)).squared_distance;
     return std::sqrt(sum / double(input.vertex_count() + level.vertex_count()));
 }
 
