@@ -50,6 +50,27 @@ public:
         std::sort(keys.begin(), keys.end());
         return keys;
     }
+    // The edges of the triangles at the vertices `near` (sorted) marks.
+    std::vector<uint64_t> edges_at(const std::vector<uint32_t>& near) const {
+        std::vector<uint8_t> marked(level_.vertex_count(), 0);
+        for (uint32_t v : near) marked[v] = 1;
+        std::vector<uint64_t> keys;
+        for (uint32_t t = 0; t < head_.size(); ++t)
+            if (marked[corner(t, 0)] || marked[corner(t, 1)] || marked[corner(t, 2)])
+                for (int c = 0; c < 3; ++c)
+                    keys.push_back(edge_key(corner(t, c), corner(t, c + 1)));
+        std::sort(keys.begin(), keys.end());
+        keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+        return keys;
+    }
+
+    // The corners of the quads flipped so far, sorted, each once.
+    std::vector<uint32_t> flipped_corners() const {
+        std::vector<uint32_t> at = flipped_at_;
+        std::sort(at.begin(), at.end());
+        at.erase(std::unique(at.begin(), at.end()), at.end());
+        return at;
+    }
 
     // Whether a flip marked with `stamp` changed triangle t.
     bool touched(uint32_t t, uint32_t stamp) const { return flipped_in_[t] == stamp; }
@@ -77,6 +98,7 @@ public:
     // Flips q's edge and moves its samples; the quad's four rim edges go to `around`, for the
     // next sweep.
     void flip(const Quad& q, std::vector<uint64_t>& around, uint32_t stamp) {
+        flipped_at_.insert(flipped_at_.end(), {q.a, q.b, q.c, q.d});
         flipped_in_[q.t1] = flipped_in_[q.t2] = stamp;
         uint32_t moved = head_[q.t1];
         if (moved == kNoOwner) {
@@ -202,16 +224,17 @@ private:
     std::vector<uint32_t> head_, next_;
     std::vector<uint32_t> flipped_in_; // per triangle: the stamp of the last flip that changed it
     std::unordered_map<uint64_t, std::array<uint32_t, 2>> edges_;
+    std::vector<uint32_t> flipped_at_; // the corners of every flipped quad
 };
 
 } // namespace
 
-bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,
-                         Parallel& parallel) {
-    if (!(input.flat_cos <= 1) || level.triangle_count() < 2) return false;
+std::vector<uint32_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
+                                          Surface& level, Parallel& parallel,
+                                          const std::vector<uint32_t>* near) {
+    if (!(input.flat_cos <= 1) || level.triangle_count() < 2) return {};
     LevelFlips flips(input, forward, level);
-    std::vector<uint64_t> sweep = flips.all_edges();
-    bool any = false;
+    std::vector<uint64_t> sweep = near ? flips.edges_at(*near) : flips.all_edges();
     std::vector<uint8_t> worth;
     std::vector<Quad> quads;
     // Every flip lowers the samples' error, so the sweeps end; the cap bounds their time on a
@@ -233,13 +256,13 @@ bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
             Quad& q = quads[k];
             const bool as_found = !flips.touched(q.t1, stamp) && !flips.touched(q.t2, stamp);
             if (as_found ? flips.flippable(q) : flips.gain(sweep[k], q) > 0)
-                flips.flip(q, around, stamp), any = true;
+                flips.flip(q, around, stamp);
         }
         std::sort(around.begin(), around.end());
         around.erase(std::unique(around.begin(), around.end()), around.end());
         sweep.swap(around);
     }
-    return any;
+    return flips.flipped_corners();
 }
 
 } // namespace ddsimp::detail

@@ -24,9 +24,12 @@ inline constexpr double kFlipFlatDegrees = 20;
 // and its quad's other diagonal is no edge yet. `forward` (per input vertex, where it lies on
 // the level: refit_data's landing, or the triangle that covers a removed vertex) follows the
 // samples it moves; of `input`, only the surface, components, weights and flat_cos are read.
-// Returns whether any edge was flipped. The same bytes for any number of threads: the threads only
-// find the edges worth trying, which are then tried and flipped one by one in order.
-bool flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward, Surface& level,
-                         Parallel& parallel);
+// The first sweep tries every edge, or with `near` (sorted level vertices) only the edges of the
+// triangles at them. Returns the corners of the flipped quads, sorted: the vertices whose stars
+// the flips changed. The same bytes for any number of threads: the threads only find the edges
+// worth trying, which are then tried and flipped one by one in order.
+std::vector<uint32_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
+                                          Surface& level, Parallel& parallel,
+                                          const std::vector<uint32_t>* near = nullptr);
 
 } // namespace ddsimp::detail

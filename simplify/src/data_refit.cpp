@@ -300,7 +300,7 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     land_forward(input, level, stars, forward, parallel);
     const std::vector<Landing> backward = land_backward(input, level, parallel);
     fit_values(input, stars, forward, backward, level, parallel);
-    if (!flip_edges_for_data(input, forward, level, parallel)) return;
+    if (flip_edges_for_data(input, forward, level, parallel).empty()) return;
     // The flips moved the samples on each flipped pair of triangles to the nearer new one; the
     // other samples lie where they did, as the flips only join nearly coplanar triangles.
     stars = Stars(level);

@@ -2,11 +2,13 @@
 // best.
 #include "level_relocation.h"
 
+#include "data_flips.h"
 #include "working_mesh.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace ddsimp::detail {
 namespace {
@@ -434,20 +436,20 @@ private:
 
 } // namespace
 
-bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
-                             const std::vector<uint8_t>& boundary_line,
-                             std::vector<uint32_t>& source, std::vector<Landing>& forward,
-                             Surface& level, Parallel& parallel) {
+std::vector<uint32_t>
+relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
+                        const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
+                        std::vector<Landing>& forward, Surface& level, Parallel& parallel,
+                        const std::vector<uint32_t>& from) {
+    std::vector<uint32_t> moved_ones;
     if (!(move_cos(input) <= 1) || level.triangle_count() < 2 ||
         input.components.size() > kMaxComponents)
-        return false;
+        return moved_ones;
     LevelRelocation relocation(input, locked, boundary_line, source, forward, level);
     const size_t nv = relocation.vertex_count();
-    std::vector<uint32_t> sweep(nv);
-    for (uint32_t v = 0; v < nv; ++v) sweep[v] = v;
+    std::vector<uint32_t> sweep = from;
     std::vector<uint8_t> in_sweep(nv, 0);
     std::vector<uint32_t> waiting(nv, 0); // per vertex: its neighbours before it in the sweep
-    bool any = false;
     // Every move lowers the samples' error, so the sweeps would end; most of what they gain is
     // gained in the first three, and each costs about as much as the one before.
     constexpr uint32_t kMaxSweeps = 3;
@@ -485,7 +487,7 @@ bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>
                     if (k > v && in_sweep[k] && --waiting[k] == 0) next.push_back(k);
                     if (moved[i]) near.push_back(k);
                 });
-                any |= moved[i] != 0;
+                if (moved[i]) moved_ones.push_back(v);
             }
             std::sort(next.begin(), next.end());
             ready.swap(next);
@@ -494,7 +496,26 @@ bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>
         near.erase(std::unique(near.begin(), near.end()), near.end());
         sweep.swap(near);
     }
-    return any;
+    std::sort(moved_ones.begin(), moved_ones.end());
+    moved_ones.erase(std::unique(moved_ones.begin(), moved_ones.end()), moved_ones.end());
+    return moved_ones;
+}
+
+void settle_level(const RefitInput& input, const std::vector<uint8_t>& locked,
+                  const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
+                  std::vector<Landing>& forward, Surface& level, Parallel& parallel) {
+    std::vector<uint32_t> changed(level.vertex_count());
+    std::iota(changed.begin(), changed.end(), 0u);
+    // Every move and every flip lowers the samples' error, so the turns would end; on the report's
+    // surfaces they do within seven. The bound caps a level whose turns keep making room for more.
+    constexpr int kMaxTurns = 8;
+    for (int turn = 0; turn < kMaxTurns && !changed.empty(); ++turn) {
+        const std::vector<uint32_t> moved = relocate_level_vertices(
+            input, locked, boundary_line, source, forward, level, parallel, changed);
+        if (turn > 0 && moved.empty()) break;
+        changed =
+            flip_edges_for_data(input, forward, level, parallel, turn == 0 ? nullptr : &moved);
+    }
 }
 
 } // namespace ddsimp::detail

@@ -22,20 +22,31 @@ namespace ddsimp::detail {
 // (input.feature_cos) stays. Every move lowers the samples' total error.
 //
 // A sweep takes its vertices in order, each finding its best move as the moves before it left the
-// level; one after the first visits only the vertices next to the last one's moves; there are at
-// most three. The threads take at once the vertices whose neighbours before them in the sweep are
-// done (no two of them neighbours), so the moves are those of the sweep in order, and the bytes
-// are the same for any number of threads.
+// level; the first visits the vertices `from` (sorted), one after it only the vertices next to the
+// last one's moves; there are at most three. The threads take at once the vertices whose neighbours
+// before them in the sweep are done (no two of them neighbours), so the moves are those of the
+// sweep in order, and the bytes are the same for any number of threads.
 //
 // `source` (per level vertex: its input vertex) and `forward` (per input vertex: where it lies on
 // the level; kNoOwner for the level's own vertices) follow the moves; `locked` (per input vertex,
 // empty: none) marks vertices that stay; `boundary_line` (per input vertex, empty: none) marks
 // those on the input's boundary where it runs on, neither a corner nor a complex vertex (a Line
 // vertex on a boundary). Of `input`, only the surface, components, weights, flat_cos, turn_cos
-// and feature_cos are read. Returns whether any vertex moved.
-bool relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
-                             const std::vector<uint8_t>& boundary_line,
-                             std::vector<uint32_t>& source, std::vector<Landing>& forward,
-                             Surface& level, Parallel& parallel);
+// and feature_cos are read. Returns the vertices that moved, sorted.
+std::vector<uint32_t>
+relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& locked,
+                        const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
+                        std::vector<Landing>& forward, Surface& level, Parallel& parallel,
+                        const std::vector<uint32_t>& from);
+
+// A vertex-removal level's moves (relocate_level_vertices) and flips (flip_edges_for_data, with
+// the same samples) in turns, since each changes the stars the other searched: first the moves of
+// every vertex and the flips of every edge, then the moves of the vertices whose stars the last
+// flips changed and the flips of the edges around the last moves, until a turn changes nothing
+// (at most eight turns). Arguments as relocate_level_vertices's; the same bytes for any number of
+// threads.
+void settle_level(const RefitInput& input, const std::vector<uint8_t>& locked,
+                  const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
+                  std::vector<Landing>& forward, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail

@@ -1,5 +1,4 @@
 // Replaying a prefix of the recorded operations: every level of one run, without re-running.
-#include "data_flips.h"
 #include "level_relocation.h"
 #include "removal_cover.h"
 #include "simplifier.h"
@@ -196,9 +195,8 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
         std::vector<uint32_t> source(level.vertex_count());
         for (size_t v = 0; v < input_vertices_; ++v)
             if (index[v] != detail::kNoOwner) source[index[v]] = uint32_t(v);
-        detail::relocate_level_vertices(input, locked_input_, boundary_line_input_, source, landed,
-                                        level, parallel);
-        detail::flip_edges_for_data(input, landed, level, parallel);
+        detail::settle_level(input, locked_input_, boundary_line_input_, source, landed, level,
+                             parallel);
         return;
     }
     const std::vector<uint32_t> map = collapse_map(operations);

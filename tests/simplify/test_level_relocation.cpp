@@ -3,7 +3,8 @@
 // an input vertex with its exact position and data; the triangles and the topology stay and none
 // folds; locked vertices, and data the level already holds exactly, stay; the result is the same
 // on any number of threads; a boundary vertex moves only along the boundary; where the data
-// weighs nothing, the surface decides the moves, which may then turn the surface further.
+// weighs nothing, the surface decides the moves, which may then turn the surface further; moves and
+// flips in turns leave a level where neither gains any more.
 #include "data_error.h"
 #include "data_flips.h"
 #include "level_relocation.h"
@@ -13,6 +14,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <numeric>
 
 namespace ddsimp::test::level_relocation {
 namespace {
@@ -75,8 +77,19 @@ struct LevelCase {
 
     bool relocate(int threads = 1, const std::vector<uint8_t>& boundary_line = {}) {
         detail::Parallel parallel(threads);
-        return detail::relocate_level_vertices(refit, locked, boundary_line, source, forward, level,
-                                               parallel);
+        std::vector<uint32_t> all(level.vertex_count());
+        std::iota(all.begin(), all.end(), 0u);
+        return !detail::relocate_level_vertices(refit, locked, boundary_line, source, forward,
+                                                level, parallel, all)
+                    .empty();
+    }
+    bool flip() {
+        detail::Parallel parallel(1);
+        return !detail::flip_edges_for_data(refit, forward, level, parallel).empty();
+    }
+    void settle(int threads = 1) {
+        detail::Parallel parallel(threads);
+        detail::settle_level(refit, locked, {}, source, forward, level, parallel);
     }
 
     // Each level vertex is its source input vertex, with that vertex's position and data.
@@ -231,14 +244,35 @@ TEST(LevelRelocation, NeverFoldsTheLevel) {
 TEST(LevelRelocation, SameBytesOnAnyThreadCount) {
     // As in test_determinism.cpp: as many threads as asked for, also on a two-core machine.
     oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 17);
-    LevelCase one(waves);
+    LevelCase one(waves), settled(waves);
     one.relocate(1);
+    settled.settle(1);
     for (int threads : {2, 3, 4}) {
-        LevelCase many(waves);
+        LevelCase many(waves), many_settled(waves);
         many.relocate(threads);
+        many_settled.settle(threads);
         EXPECT_TRUE(same_bytes(one.level, many.level)) << threads << " threads";
         EXPECT_EQ(one.source, many.source) << threads << " threads";
+        EXPECT_TRUE(same_bytes(settled.level, many_settled.level)) << threads << " threads";
+        EXPECT_EQ(settled.source, many_settled.source) << threads << " threads";
     }
+}
+
+// Moves and flips in turns: a flip changes the stars the moves searched and a move the quads the
+// flips tried, so one round of each leaves moves that gain (the premise); settled, the level has
+// neither a move nor a flip left that lowers the samples' error, and fits the data better.
+TEST(LevelRelocation, SettledLevelsHaveNoMoveOrFlipLeftThatGains) {
+    LevelCase once(waves);
+    once.relocate();
+    ASSERT_TRUE(once.flip());
+    LevelCase settled(waves);
+    settled.settle();
+    EXPECT_TRUE(settled.vertices_are_the_inputs());
+    EXPECT_LT(two_way_data_rms(settled.input, settled.level),
+              two_way_data_rms(once.input, once.level));
+    EXPECT_TRUE(once.relocate()); // the premise: one round of each is not the end
+    EXPECT_FALSE(settled.relocate());
+    EXPECT_FALSE(settled.flip());
 }
 
 // Through the library: where the data weighs nothing (alpha = 1, or a surface with no data), a
