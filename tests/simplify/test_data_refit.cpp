@@ -1,6 +1,7 @@
 // The data of an edge-collapse level fitted to the input over the whole level (data_refit.h):
 // it lowers the two-way data error below the collapses' own values, stays within the data's
-// range, and leaves the input's own and locked vertices' data as they were.
+// range, and leaves the input's own and locked vertices' data as they were; the made points move
+// onto the input.
 #include "data_error.h"
 #include "working_mesh.h"
 
@@ -26,6 +27,30 @@ TEST(DataRefit, LowersTheTwoWayDataError) {
         const double fitted = two_way_data_rms(in, record.after(operations));
         const double collapsed = two_way_data_rms(in, record.after_as_recorded(operations));
         EXPECT_LT(fitted, 0.97 * collapsed) << "keep " << keep;
+    }
+}
+
+// The made points move to where their samples lie, where that lowers their stars' joint error:
+// the level's distance to the input falls well below the record's, its data error too; the
+// input's own vertices stay where they are, and the topology stays.
+TEST(DataRefit, MovesTheMadePointsOntoTheInput) {
+    const Surface in = wavy_sphere();
+    for (double alpha : {0.0, 0.5}) {
+        Options o = collapse_to(0);
+        o.alpha = alpha;
+        const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+        const size_t operations = record.operations_for(in.triangle_count() / 10);
+        const Surface fitted = record.after(operations),
+                      recorded = record.after_as_recorded(operations);
+        SCOPED_TRACE(alpha);
+        ASSERT_EQ(fitted.vertex_count(), recorded.vertex_count());
+        EXPECT_LT(two_way_distance_rms(in, fitted), 0.9 * two_way_distance_rms(in, recorded));
+        EXPECT_LT(two_way_data_rms(in, fitted), two_way_data_rms(in, recorded));
+        EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(fitted)));
+        const std::vector<uint32_t> ids = record.indexed_triangles(operations);
+        for (size_t c = 0; c < ids.size(); ++c)
+            if (ids[c] < in.vertex_count())
+                EXPECT_EQ(position(fitted, recorded.triangles[c]), position(in, ids[c]));
     }
 }
 
