@@ -159,7 +159,7 @@ struct SamplesByTriangle {
     }
 };
 
-// The free vertices' positions fitted to the samples (see refit_data), one round.
+// The free vertices' positions fitted to the samples (see refit_data).
 void fit_positions(const RefitInput& input, const Stars& stars, const std::vector<Landing>& forward,
                    const std::vector<Landing>& backward, Surface& level, Parallel& parallel) {
     const Surface& in = *input.surface;
@@ -214,25 +214,34 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
             }
         return total;
     };
-    // Their joint error with k at x, each at its closest point on the star.
-    auto moved_error = [&](uint32_t k, const Vec3& x) {
+    // Their joint error with k at x, each at its closest point on the star; once it reaches
+    // `bound`, what it is so far.
+    auto moved_error = [&](uint32_t k, const Vec3& x, double bound) {
+        static thread_local std::vector<std::array<Vec3, 3>> corners;
+        corners.clear();
+        for (uint32_t r = stars.begin[k]; r < stars.begin[k + 1]; ++r) {
+            std::array<Vec3, 3>& q = corners.emplace_back();
+            for (int c = 0; c < 3; ++c) {
+                const uint32_t v = corner(stars.triangle[r], c);
+                q[size_t(c)] = v == k ? x : point_of(level.positions, v);
+            }
+        }
         double total = 0;
         for (uint32_t s = stars.begin[k]; s < stars.begin[k + 1]; ++s)
             for (uint32_t l = on.begin[stars.triangle[s]]; l < on.begin[stars.triangle[s] + 1];
                  ++l) {
+                if (total >= bound) return total;
                 const uint32_t i = on.sample[l];
                 const Vec3 p = point_of(in.positions, i);
                 double nearest = std::numeric_limits<double>::infinity();
                 uint32_t best = kNoOwner;
                 std::array<double, 3> weights{};
                 for (uint32_t r = stars.begin[k]; r < stars.begin[k + 1]; ++r) {
-                    const uint32_t t = stars.triangle[r];
-                    Vec3 q[3];
-                    for (int c = 0; c < 3; ++c)
-                        q[c] = corner(t, c) == k ? x : point_of(level.positions, corner(t, c));
+                    const std::array<Vec3, 3>& q = corners[r - stars.begin[k]];
                     const ClosestPoint cp = closest_on_triangle(p, q[0], q[1], q[2]);
                     const Vec3 d = sub(cp.point, p);
-                    if (dot(d, d) < nearest) nearest = dot(d, d), best = t, weights = cp.weights;
+                    if (dot(d, d) < nearest)
+                        nearest = dot(d, d), best = stars.triangle[r], weights = cp.weights;
                 }
                 total += sample_error(i, best, weights, k, x);
             }
@@ -275,8 +284,8 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
         const Vec3 x = scale(sum, 1 / weight);
         for (uint32_t s = stars.begin[k]; s < stars.begin[k + 1]; ++s)
             if (!keeps(stars.triangle[s], k, x, level.positions)) return;
-        const double now = landed_error(k);
-        if (moved_error(k, x) < now - 1e-9 * now) target[k] = x, moves[k] = 1;
+        const double now = landed_error(k), better = now - 1e-9 * now;
+        if (moved_error(k, x, better) < better) target[k] = x, moves[k] = 1;
     });
     for (size_t k = 0; k < n; ++k)
         if (moves[k])
@@ -446,14 +455,12 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     std::vector<Landing> forward(input.vertices);
     land_forward(input, level, stars, forward, parallel);
     std::vector<Landing> backward = land_backward(input, level, parallel);
-    // The made points moved to where their samples lie, then the samples landed again. A third
-    // round lowers the distance RMS by 1-2 % more, for as much work as each of the first two.
-    constexpr int kPositionRounds = 2;
-    for (int round = 0; round < kPositionRounds; ++round) {
-        fit_positions(input, stars, forward, backward, level, parallel);
-        land_forward(input, level, stars, forward, parallel);
-        backward = land_backward(input, level, parallel);
-    }
+    // The made points moved to where their samples lie, then the samples landed again. Once: a
+    // second round lowers the distance RMS by another 5 % and the data RMS by under 1 %, for as
+    // much work again.
+    fit_positions(input, stars, forward, backward, level, parallel);
+    land_forward(input, level, stars, forward, parallel);
+    backward = land_backward(input, level, parallel);
     fit_values(input, stars, forward, backward, level, parallel);
     if (flip_edges_for_data(input, forward, level, parallel).empty()) return;
     // The flips moved the samples on each flipped pair of triangles to the nearer new one; the

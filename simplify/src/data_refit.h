@@ -69,21 +69,22 @@ struct RefitInput {
     double feature_cos = -2;
 };
 
-// Fits the free vertices of `level` (the points the run made) to the input. First their positions,
-// in two rounds: each input vertex lands at the closest point of its owner's star and each free
+// Fits the free vertices of `level` (the points the run made) to the input. First their
+// positions: each input vertex lands at the closest point of its owner's star and each free
 // vertex at the closest point of the input triangles it replaced; with those landings kept, each
 // free vertex's least-squares position puts the landed points nearest their input vertices and
 // itself nearest its own. A vertex takes it where no triangle of its star turns further than
 // flat_cos and its star's samples, each at its closest point on the star, have a lower joint
 // error (distance_weight, data_weight) than where they were landed; the moves are found on the
 // level as it stands and made together, and where neighbours' moves together turn a triangle
-// too far, its corners go back. Then their data, so that over both sets of samples at once the
-// squared data differences are least: each input vertex against the level's data interpolated
-// at its landing, each level vertex against the input's data interpolated at its own. Each value
-// is then clamped to the range of the samples it was fitted to, so it never overshoots the data
-// it stands for. Then the level's edges are flipped where that lowers the samples' error
-// (flip_edges_for_data), and if any was, the data is fitted once more. The input's own vertices
-// and locked ones keep their positions and data. The same bytes for any number of threads.
+// too far, its corners go back; then the samples land again. Then their data, so that over both
+// sets of samples at once the squared data differences are least: each input vertex against the
+// level's data interpolated at its landing, each level vertex against the input's data interpolated
+// at its own. Each value is then clamped to the range of the samples it was fitted to, so it never
+// overshoots the data it stands for. Then the level's edges are flipped where that lowers the
+// samples' error (flip_edges_for_data), and if any was, the data is fitted once more. The input's
+// own vertices and locked ones keep their positions and data. The same bytes for any number of
+// threads.
 void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail
