@@ -199,21 +199,8 @@ private:
 
     // Sample i's error where it lands on the triangle of corners k with weights w.
     double cost(uint32_t i, const Corners& k, const std::array<double, 3>& w) const {
-        const Vec3 at =
-            add(add(scale(point(k[0]), w[0]), scale(point(k[1]), w[1])), scale(point(k[2]), w[2]));
-        const Vec3 e = sub(at, point_of(in_.positions, i));
-        double sum = input_.distance_weight * dot(e, e);
-        for (size_t j = 0; j < input_.components.size(); ++j) {
-            const auto [field, component] = input_.components[j];
-            const Field& f = level_.fields[field];
-            const size_t nc = size_t(f.components);
-            double value = 0;
-            for (int c = 0; c < 3; ++c) value += w[c] * double(f.values[nc * k[c] + component]);
-            const Field& g = in_.fields[field];
-            const double d = value - double(g.values[size_t(g.components) * i + component]);
-            sum += input_.data_weight[j] * d * d;
-        }
-        return sum;
+        return landed_sample_error(input_, level_, i, k, {point(k[0]), point(k[1]), point(k[2])},
+                                   w);
     }
 
     const RefitInput& input_;

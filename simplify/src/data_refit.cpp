@@ -159,6 +159,30 @@ struct SamplesByTriangle {
     }
 };
 
+} // namespace
+
+double landed_sample_error(const RefitInput& input, const Surface& level, uint32_t i,
+                           const std::array<uint32_t, 3>& corner, const std::array<Vec3, 3>& at,
+                           const std::array<double, 3>& w) {
+    const Surface& in = *input.surface;
+    const Vec3 x = add(add(scale(at[0], w[0]), scale(at[1], w[1])), scale(at[2], w[2]));
+    const Vec3 d = sub(x, point_of(in.positions, i));
+    double e = input.distance_weight * dot(d, d);
+    for (size_t j = 0; j < input.components.size(); ++j) {
+        const auto [field, component] = input.components[j];
+        const Field& f = level.fields[field];
+        const size_t nc = size_t(f.components);
+        double value = 0;
+        for (int c = 0; c < 3; ++c) value += w[c] * double(f.values[nc * corner[c] + component]);
+        const Field& g = in.fields[field];
+        const double dv = value - double(g.values[size_t(g.components) * i + component]);
+        e += input.data_weight[j] * dv * dv;
+    }
+    return e;
+}
+
+namespace {
+
 // The free vertices' positions fitted to the samples (see refit_data).
 void fit_positions(const RefitInput& input, const Stars& stars, const std::vector<Landing>& forward,
                    const std::vector<Landing>& backward, Surface& level, Parallel& parallel) {
@@ -184,24 +208,13 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
     // Sample i's joint error at the point of triangle t with weights w, t's corner k at x.
     auto sample_error = [&](uint32_t i, uint32_t t, const std::array<double, 3>& w, uint32_t k,
                             const Vec3& x) {
-        Vec3 at{0, 0, 0};
-        for (int c = 0; c < 3; ++c)
-            at = add(at, scale(corner(t, c) == k ? x : point_of(level.positions, corner(t, c)),
-                               w[size_t(c)]));
-        const Vec3 d = sub(at, point_of(in.positions, i));
-        double e = input.distance_weight * dot(d, d);
-        for (size_t j = 0; j < input.components.size(); ++j) {
-            const auto [field, component] = input.components[j];
-            const Field& f = level.fields[field];
-            const size_t nc = size_t(f.components);
-            double value = 0;
-            for (int c = 0; c < 3; ++c)
-                value += w[size_t(c)] * double(f.values[nc * corner(t, c) + component]);
-            const Field& g = in.fields[field];
-            const double dv = value - double(g.values[size_t(g.components) * i + component]);
-            e += input.data_weight[j] * dv * dv;
+        std::array<uint32_t, 3> v;
+        std::array<Vec3, 3> at;
+        for (int c = 0; c < 3; ++c) {
+            v[size_t(c)] = corner(t, c);
+            at[size_t(c)] = v[size_t(c)] == k ? x : point_of(level.positions, v[size_t(c)]);
         }
-        return e;
+        return landed_sample_error(input, level, i, v, at, w);
     };
     // The joint error of the samples on k's star where they are landed now.
     auto landed_error = [&](uint32_t k) {

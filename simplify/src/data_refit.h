@@ -69,6 +69,13 @@ struct RefitInput {
     double feature_cos = -2;
 };
 
+// Input vertex i's joint error (input.distance_weight, data_weight) where it lands with weights w
+// on a level triangle whose corners are the level's vertices `corner`, placed at `at`.
+double landed_sample_error(const RefitInput& input, const Surface& level, uint32_t i,
+                           const std::array<uint32_t, 3>& corner,
+                           const std::array<std::array<double, 3>, 3>& at,
+                           const std::array<double, 3>& w);
+
 // Fits the free vertices of `level` (the points the run made) to the input. First their
 // positions: each input vertex lands at the closest point of its owner's star and each free
 // vertex at the closest point of the input triangles it replaced; with those landings kept, each
