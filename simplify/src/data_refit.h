@@ -1,6 +1,6 @@
-// The data of an edge-collapse level fitted to the input by least squares, over the whole level
-// at once, and its edges flipped where the data fits better (docs/algorithm.md, "Edge collapse":
-// the data at the new point).
+// An edge-collapse level's made points and their data fitted to the input by least squares, over
+// the whole level at once, and its edges flipped where the data fits better (docs/algorithm.md,
+// "Edge collapse": the data at the new point).
 #pragma once
 
 #include "ddsimp/ddsimp.h"
