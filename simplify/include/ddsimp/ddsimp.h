@@ -298,17 +298,19 @@ public:
     static ProgressiveRecord build(const Surface& input, const Options& options);
 
     // The surface after the first `operations` operations (0 = the repaired input). With edge
-    // collapse's least-error data (DataPlacement::LeastError) its data is fitted over the level.
+    // collapse's least-error data (DataPlacement::LeastError) the points the run made move onto
+    // the input where its samples fit better, and its data is fitted over the level.
     // With vertex removal and the error quadrics, its vertices may move to other input vertices
     // (with their data) where the input fits better: its data and, as the quadrics weigh it, its
     // surface (at alpha = 1, or with no data, the surface alone). With either, where the surface
     // is nearly flat, its edges are flipped where the input fits better (edge collapse: not at
     // alpha = 1).
     Surface after(size_t operations) const;
-    // The same level with each vertex's data as vertices() carries it, never fitted, nor its
-    // edges flipped, nor its vertices moved: what a refinement stream (vertices() and
+    // The same level with each vertex's position and data as vertices() carries them, never
+    // fitted, nor its edges flipped, nor its vertices moved: what a refinement stream (vertices() and
     // indexed_triangles) shows, level after level. As many vertices as after(), in the same
-    // order; each of after()'s is this level's vertex or one of the input vertices it replaced.
+    // order; each of after()'s is this level's vertex (a point the run made perhaps moved) or one
+    // of the input vertices it replaced.
     Surface after_as_recorded(size_t operations) const;
     // The surface at the first operation that leaves at most `triangles` triangles (or the
     // coarsest recorded if none does).
