@@ -307,8 +307,8 @@ public:
     // alpha = 1).
     Surface after(size_t operations) const;
     // The same level with each vertex's position and data as vertices() carries them, never
-    // fitted, nor its edges flipped, nor its vertices moved: what a refinement stream (vertices() and
-    // indexed_triangles) shows, level after level. As many vertices as after(), in the same
+    // fitted, nor its edges flipped, nor its vertices moved: what a refinement stream (vertices()
+    // and indexed_triangles) shows, level after level. As many vertices as after(), in the same
     // order; each of after()'s is this level's vertex (a point the run made perhaps moved) or one
     // of the input vertices it replaced.
     Surface after_as_recorded(size_t operations) const;
