@@ -91,6 +91,7 @@ public:
         static thread_local Scratch scratch;
         Star& star = scratch.star;
         star_of(v, star);
+        star.closed = fan == 0;
         if (!star.smooth(input_.feature_cos)) return best;
         // The samples and their error; with them, the sums that price moving the centre by d
         // with every sample's weights kept: the sum of |w d + r|^2 is A |d|^2 + 2 d.B + C.
@@ -219,6 +220,7 @@ private:
         std::vector<std::array<uint8_t, 3>> order; // the triangle's corners in points' order
         std::vector<Vec3> normal;
         double area = 0;                  // twice the star's
+        bool closed = false;              // a closed fan (the centre not on a boundary)
         std::vector<double> centre_joint; // the centre's joint coordinates
         std::vector<double> ring_joint;   // per triangle, its other two corners'
         // The plane of the star's mean normal (two unit vectors in it), and in it each
@@ -233,26 +235,6 @@ private:
         }
 
         std::array<double, 2> project(const Vec3& p) const { return {dot(p, e1), dot(p, e2)}; }
-        // The triangle whose sector, seen from the centre at x (projected: cx), holds p's
-        // projection; if none does (the projection folds the star), the nearest.
-        size_t triangle_over(const Vec3& p, const Vec3& x, const std::array<double, 2>& cx) const {
-            const std::array<double, 2> q = project(p);
-            const double qx = q[0] - cx[0], qy = q[1] - cx[1];
-            for (size_t i = 0; i < triangle.size(); ++i) {
-                const std::array<double, 4>& r = ring_2d[i];
-                const double ax = r[0] - cx[0], ay = r[1] - cx[1], bx = r[2] - cx[0],
-                             by = r[3] - cx[1];
-                if (ax * qy - ay * qx >= 0 && qx * by - qy * bx >= 0) return i;
-            }
-            size_t on = 0;
-            double nearest = kInfinity;
-            for (size_t i = 0; i < triangle.size(); ++i) {
-                const Vec3 e = sub(closest_on_triangle(p, x, points[i][1], points[i][2]).point, p);
-                if (dot(e, e) < nearest) nearest = dot(e, e), on = i;
-            }
-            return on;
-        }
-
         // Whether the star has no feature edge: each two triangles that share an edge at the
         // centre have normals within `feature_cos`. A corner or a crease stays where it is.
         bool smooth(double feature_cos) const {
@@ -273,6 +255,96 @@ private:
                     return false;
             }
             return true;
+        }
+    };
+    // The star with its centre moved to x, seen in its plane: per triangle the edges from the
+    // centre, projected. A triangle's projection lies in the wedge between them, and the
+    // projection brings no two points nearer, so a point outside a wedge is at least its distance
+    // from the wedge's edges away from that triangle. Where the wedges of a closed fan each turn
+    // counter-clockwise by less than a half turn and go round once, they do not overlap: a point
+    // over one triangle is at least its distance from that wedge's edges away from every other.
+    struct CentredStar {
+        struct Wedge {
+            double ax, ay, bx, by; // the edges from the centre
+            double inv_a, inv_b;   // their inverse squared lengths
+            bool open;             // counter-clockwise, by less than a half turn
+        };
+        Vec3 x{};
+        std::array<double, 2> cx{};
+        std::vector<Wedge> wedge;
+        std::vector<std::array<double, 2>> cross; // per wedge, a point's cross products
+        bool apart = false;                       // no two wedges overlap
+
+        void centre_at(const Star& star, const Vec3& at) {
+            x = at, cx = star.project(at);
+            const size_t n = star.triangle.size();
+            wedge.resize(n), cross.resize(n);
+            apart = star.closed;
+            for (size_t i = 0; i < n; ++i) {
+                const std::array<double, 4>& ring = star.ring_2d[i];
+                Wedge& g = wedge[i];
+                g.ax = ring[0] - cx[0], g.ay = ring[1] - cx[1];
+                g.bx = ring[2] - cx[0], g.by = ring[3] - cx[1];
+                const double la = g.ax * g.ax + g.ay * g.ay, lb = g.bx * g.bx + g.by * g.by;
+                g.open = g.ax * g.by - g.ay * g.bx > 0 && la > 0 && lb > 0;
+                g.inv_a = g.open ? 1 / la : 0, g.inv_b = g.open ? 1 / lb : 0;
+                apart = apart && g.open;
+            }
+            // Round once: no wedge but the first holds the first's leading edge.
+            for (size_t i = 1; i < n && apart; ++i) {
+                const Wedge &g = wedge[i], &first = wedge[0];
+                apart = !(g.ax * first.ay - g.ay * first.ax >= 0 &&
+                          first.ax * g.by - first.ay * g.bx > 0);
+            }
+        }
+
+        // The squared distance of a point (qx, qy from the centre, cross products ca and cb
+        // with the wedge's edges) from wedge g's edges.
+        static double edge_distance(const Wedge& g, double qx, double qy, double ca, double cb) {
+            const double qq = qx * qx + qy * qy;
+            const double da = g.ax * qx + g.ay * qy > 0 ? ca * ca * g.inv_a : qq;
+            const double db = g.bx * qx + g.by * qy > 0 ? cb * cb * g.inv_b : qq;
+            return std::min(da, db);
+        }
+
+        // The triangle of the star nearest p, and p's closest point on it, as the measure finds
+        // it: the first triangle whose wedge holds p's projection, unless another is nearer (the
+        // first of the nearest, if none holds it).
+        std::pair<size_t, ClosestPoint> closest(const Star& star, const Vec3& p) {
+            const std::array<double, 2> q = star.project(p);
+            const double qx = q[0] - cx[0], qy = q[1] - cx[1];
+            const size_t n = wedge.size();
+            size_t on = n;
+            for (size_t i = 0; i < n; ++i) {
+                const Wedge& g = wedge[i];
+                cross[i] = {g.ax * qy - g.ay * qx, qx * g.by - qy * g.bx};
+                if (cross[i][0] >= 0 && cross[i][1] >= 0) {
+                    on = i;
+                    break;
+                }
+            }
+            const bool over = on < n;
+            if (!over) on = 0;
+            ClosestPoint at = closest_on_triangle(p, x, star.points[on][1], star.points[on][2]);
+            double nearest = dot(sub(at.point, p), sub(at.point, p));
+            const double margin = 1 + kOrderMargin;
+            if (over && apart &&
+                edge_distance(wedge[on], qx, qy, cross[on][0], cross[on][1]) > nearest * margin)
+                return {on, at};
+            for (size_t i = 0; i < n; ++i) {
+                if (i == on) continue;
+                const Wedge& g = wedge[i];
+                if (over && i > on) cross[i] = {g.ax * qy - g.ay * qx, qx * g.by - qy * g.bx};
+                const double ca = cross[i][0], cb = cross[i][1];
+                if (g.open && !(ca >= 0 && cb >= 0) &&
+                    edge_distance(g, qx, qy, ca, cb) > nearest * margin)
+                    continue;
+                const ClosestPoint c =
+                    closest_on_triangle(p, x, star.points[i][1], star.points[i][2]);
+                const double d = dot(sub(c.point, p), sub(c.point, p));
+                if (d < nearest) nearest = d, on = i, at = c;
+            }
+            return {on, at};
         }
     };
     struct Scratch {
@@ -385,10 +457,9 @@ private:
         }
     }
 
-    // The star's samples but sample `to`, and the centre's input vertex, each landed on the
-    // star's triangle over it with the centre at sample `to` (Star::triangle_over), at its
-    // closest point there: their total error, or infinity once it reaches `bound`. The landings
-    // go to `landed`, if given.
+    // The star's samples but sample `to`, and the centre's input vertex, each landed at its
+    // closest point on the star with the centre at sample `to` (CentredStar::closest): their
+    // total error, or infinity once it reaches `bound`. The landings go to `landed`, if given.
     double landed_error(const Star& star, const StarSamples& samples, uint32_t to, double bound,
                         std::vector<std::pair<uint32_t, Landing>>* landed,
                         const std::vector<uint32_t>* order = nullptr) const {
@@ -398,12 +469,11 @@ private:
         if (landed) landed->clear();
         double total = 0;
         std::array<double, kMaxDims> r;
-        const std::array<double, 2> cx = star.project(x);
+        static thread_local CentredStar centred;
+        centred.centre_at(star, x);
         auto land = [&](uint32_t s, const double* own) {
-            const Vec3 p = point_of(in_.positions, s);
-            const size_t on = star.triangle_over(p, x, cx);
-            const std::array<double, 3> w =
-                closest_on_triangle(p, x, star.points[on][1], star.points[on][2]).weights;
+            const auto [on, closest] = centred.closest(star, point_of(in_.positions, s));
+            const std::array<double, 3>& w = closest.weights;
             total += residual(star, on, centre, w, own, r.data());
             if (landed) {
                 Landing at{star.triangle[on], {}};

@@ -3,8 +3,9 @@
 // an input vertex with its exact position and data; the triangles and the topology stay and none
 // folds; locked vertices, and data the level already holds exactly, stay; the result is the same
 // on any number of threads; a boundary vertex moves only along the boundary; where the data
-// weighs nothing, the surface decides the moves, which may then turn the surface further; moves and
-// flips in turns leave a level where neither gains any more.
+// weighs nothing, the surface decides the moves, which may then turn the surface further; a move
+// lands each sample at its closest point on the star; moves and flips in turns leave a level where
+// neither gains any more.
 #include "data_error.h"
 #include "data_flips.h"
 #include "level_relocation.h"
@@ -52,6 +53,18 @@ struct LevelCase {
             for (int d = 0; d < 3; ++d) level.positions.push_back(input.positions[3 * v + d]);
             level.fields[0].values.push_back(input.fields[0].values[v]);
         }
+        land_all();
+        refit.surface = &input;
+        refit.vertices = input.vertex_count();
+        refit.triangles = &input.triangles;
+        refit.components = {{0u, 0u}};
+        refit.data_weight = {1.0};
+        refit.distance_weight = 0.2;
+        refit.flat_cos = std::cos(detail::kFlipFlatDegrees * std::numbers::pi / 180);
+    }
+
+    // Each input vertex the level does not keep landed on its closest level triangle.
+    void land_all() {
         forward.resize(input.vertex_count());
         for (uint32_t v : source) forward[v].triangle = detail::kNoOwner;
         for (uint32_t i = 0; i < input.vertex_count(); ++i) {
@@ -66,13 +79,6 @@ struct LevelCase {
                 if (dot(d, d) < best) best = dot(d, d), forward[i] = {t, c.weights};
             }
         }
-        refit.surface = &input;
-        refit.vertices = input.vertex_count();
-        refit.triangles = &input.triangles;
-        refit.components = {{0u, 0u}};
-        refit.data_weight = {1.0};
-        refit.distance_weight = 0.2;
-        refit.flat_cos = std::cos(detail::kFlipFlatDegrees * std::numbers::pi / 180);
     }
 
     bool relocate(int threads = 1, const std::vector<uint8_t>& boundary_line = {}) {
@@ -208,6 +214,52 @@ TEST(LevelRelocation, ByTheDistanceAloneAMoveTurnsAsFarAsTheRunAllows) {
     EXPECT_EQ(far, grid_index(kFine, kPeakI, kPeakJ));
     EXPECT_NE(flat, grid_index(kFine, kPeakI, kPeakJ));
     EXPECT_LT(as_far, 0.7 * as_flat);
+}
+
+// A move lands the star's samples where the measure finds them: each at its closest point on the
+// star, which on a curved star may be on another triangle than the one its projection falls in.
+TEST(LevelRelocation, AMoveLandsEachSampleAtItsClosestPointOnTheStar) {
+    LevelCase c([](const Vec3&) { return 0.0; });
+    // A bump; only the middle vertex may move.
+    for (size_t v = 0; v < c.input.vertex_count(); ++v)
+        c.input.positions[3 * v + 2] = float(0.35 * bump(position(c.input, v)));
+    for (uint32_t v = 0; v < c.level.vertex_count(); ++v)
+        c.level.positions[3 * v + 2] = c.input.positions[3 * size_t(c.source[v]) + 2];
+    c.land_all();
+    c.locked.assign(c.input.vertex_count(), 1);
+    c.locked[c.source[kMiddle]] = 0;
+    c.refit.components.clear();
+    c.refit.data_weight.clear();
+    c.refit.distance_weight = 1;
+    c.refit.turn_cos = std::cos(60 * std::numbers::pi / 180);
+    ASSERT_TRUE(c.relocate());
+    std::vector<uint32_t> star;
+    for (uint32_t t = 0; t < c.level.triangle_count(); ++t) {
+        const auto k = corners(c.level, t);
+        if (k[0] == kMiddle || k[1] == kMiddle || k[2] == kMiddle) star.push_back(t);
+    }
+    size_t on_star = 0;
+    for (uint32_t i = 0; i < c.input.vertex_count(); ++i) {
+        const detail::Landing& l = c.forward[i];
+        if (std::find(star.begin(), star.end(), l.triangle) == star.end()) continue;
+        const auto k = corners(c.level, l.triangle);
+        Vec3 at{0, 0, 0};
+        for (int j = 0; j < 3; ++j)
+            for (int d = 0; d < 3; ++d) at[d] += l.weights[j] * position(c.level, k[j])[d];
+        const Vec3 p = position(c.input, i);
+        double nearest = INFINITY;
+        for (uint32_t t : star) {
+            const auto m = corners(c.level, t);
+            const Vec3 q =
+                detail::closest_on_triangle(p, position(c.level, m[0]), position(c.level, m[1]),
+                                            position(c.level, m[2]))
+                    .point;
+            nearest = std::min(nearest, dot(q - p, q - p));
+        }
+        EXPECT_LE(dot(at - p, at - p), nearest * (1 + 1e-9) + 1e-15) << "sample " << i;
+        ++on_star;
+    }
+    EXPECT_GT(on_star, 60u);
 }
 
 TEST(LevelRelocation, LockedVerticesStay) {
