@@ -162,20 +162,24 @@ public:
         std::sort(order.begin(), order.end());
         double least = c - noise;
         uint32_t chosen = kNoOwner;
+        Landings &landings = scratch.landings, &chosen_landings = scratch.chosen_landings;
         for (const auto& [estimate, i] : order) {
             if (!star.keeps(point_of(in_.positions, samples.vertex[i]), keep_cos_)) continue;
-            // First with the samples of most error first, to give most candidates up soon;
-            // what that cannot rule out is landed again in the samples' own order, so that the
+            // Landed with the samples of most error first, to give most candidates up soon;
+            // what that cannot rule out is summed again in the samples' own order, so that the
             // sums, and the choice, do not depend on the first order.
-            if (landed_error(star, samples, i, least * (1 + kOrderMargin), nullptr,
-                             &samples.by_error) == kInfinity)
+            if (land_all(star, samples, i, least * (1 + kOrderMargin), samples.by_error,
+                         landings) == kInfinity)
                 continue;
-            const double e = landed_error(star, samples, i, least, nullptr);
-            if (e < least) least = e, chosen = i;
+            const double e = in_sample_order(landings, i, count, least);
+            if (e < least) least = e, chosen = i, std::swap(landings, chosen_landings);
         }
         if (chosen != kNoOwner) {
             best.to = samples.vertex[chosen];
-            landed_error(star, samples, chosen, kInfinity, &best.landed);
+            best.landed.emplace_back(source_[star.centre], chosen_landings.at[0]);
+            for (uint32_t n = 0; n < count; ++n)
+                if (n != chosen)
+                    best.landed.emplace_back(samples.vertex[n], chosen_landings.at[1 + n]);
         }
         return best;
     }
@@ -347,9 +351,16 @@ private:
             return {on, at};
         }
     };
+    // A candidate's landings: per landed point its error and where it landed, the centre's input
+    // vertex in slot 0 and the star's sample n in slot 1 + n.
+    struct Landings {
+        std::vector<double> error;
+        std::vector<Landing> at;
+    };
     struct Scratch {
         Star star;
         StarSamples samples;
+        Landings landings, chosen_landings;
         std::vector<std::pair<double, uint32_t>> order;
     };
 
@@ -458,34 +469,44 @@ private:
     }
 
     // The star's samples but sample `to`, and the centre's input vertex, each landed at its
-    // closest point on the star with the centre at sample `to` (CentredStar::closest): their
-    // total error, or infinity once it reaches `bound`. The landings go to `landed`, if given.
-    double landed_error(const Star& star, const StarSamples& samples, uint32_t to, double bound,
-                        std::vector<std::pair<uint32_t, Landing>>* landed,
-                        const std::vector<uint32_t>* order = nullptr) const {
-        const uint32_t u = samples.vertex[to];
-        const Vec3 x = point_of(in_.positions, u);
+    // closest point on the star with the centre at sample `to` (CentredStar::closest), the
+    // samples in `order`, into `landings`: their total error in that order, or infinity once it
+    // reaches `bound`.
+    double land_all(const Star& star, const StarSamples& samples, uint32_t to, double bound,
+                    const std::vector<uint32_t>& order, Landings& landings) const {
+        const Vec3 x = point_of(in_.positions, samples.vertex[to]);
         const double* centre = &samples.joint[to * dims_];
-        if (landed) landed->clear();
-        double total = 0;
+        landings.error.resize(samples.vertex.size() + 1);
+        landings.at.resize(samples.vertex.size() + 1);
         std::array<double, kMaxDims> r;
         static thread_local CentredStar centred;
         centred.centre_at(star, x);
-        auto land = [&](uint32_t s, const double* own) {
+        auto land = [&](uint32_t s, const double* own, size_t slot) {
             const auto [on, closest] = centred.closest(star, point_of(in_.positions, s));
-            const std::array<double, 3>& w = closest.weights;
-            total += residual(star, on, centre, w, own, r.data());
-            if (landed) {
-                Landing at{star.triangle[on], {}};
-                for (size_t k = 0; k < 3; ++k) at.weights[k] = w[star.order[on][k]];
-                landed->emplace_back(s, at);
-            }
+            landings.error[slot] = residual(star, on, centre, closest.weights, own, r.data());
+            Landing& at = landings.at[slot];
+            at.triangle = star.triangle[on];
+            for (size_t k = 0; k < 3; ++k) at.weights[k] = closest.weights[star.order[on][k]];
+            return landings.error[slot];
         };
-        land(source_[star.centre], star.centre_joint.data());
-        for (uint32_t n = 0; n < samples.vertex.size(); ++n)
-            if (const uint32_t i = order ? (*order)[n] : n; i != to) {
+        double total = land(source_[star.centre], star.centre_joint.data(), 0);
+        for (const uint32_t i : order)
+            if (i != to) {
                 if (total >= bound) return kInfinity;
-                land(samples.vertex[i], &samples.joint[i * dims_]);
+                total += land(samples.vertex[i], &samples.joint[i * dims_], 1 + i);
+            }
+        return total;
+    }
+
+    // The total error of land_all's landings summed as land_all sums them in the samples' own
+    // order: the centre's input vertex first, infinity once the sum reaches `bound`.
+    static double in_sample_order(const Landings& landings, uint32_t to, size_t count,
+                                  double bound) {
+        double total = landings.error[0];
+        for (uint32_t n = 0; n < count; ++n)
+            if (n != to) {
+                if (total >= bound) return kInfinity;
+                total += landings.error[1 + n];
             }
         return total;
     }
