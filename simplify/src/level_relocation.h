@@ -12,8 +12,8 @@ namespace ddsimp::detail {
 
 // Moves each vertex v of the level to the input vertex, among the samples landed on its star,
 // that lowers the star's weighted squared error most (RefitInput::data_weight, distance_weight):
-// the samples, v's own input vertex now one of them, each landed on the star's triangle over it
-// (seen along the star's mean normal) at its closest point there. An interior vertex may move to
+// the samples, v's own input vertex now one of them, each landed at its closest point on the star,
+// where the level's error measure finds it. An interior vertex may move to
 // any of them; a vertex on the boundary, where it runs on (`boundary_line`), moves along it: only
 // to a sample on the boundary's line too, on one of its two triangles with a boundary edge at v.
 // Only the star's triangles change; each must keep its normal within input.flat_cos of the old
