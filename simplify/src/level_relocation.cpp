@@ -331,7 +331,7 @@ private:
             if (!over) on = 0;
             ClosestPoint at = closest_on_triangle(p, x, star.points[on][1], star.points[on][2]);
             double nearest = dot(sub(at.point, p), sub(at.point, p));
-            const double margin = 1 + kOrderMargin;
+            const double margin = 1 + kOrderMargin; // a bound within rounding rules nothing out
             if (over && apart &&
                 edge_distance(wedge[on], qx, qy, cross[on][0], cross[on][1]) > nearest * margin)
                 return {on, at};
