@@ -13,9 +13,9 @@ namespace ddsimp::detail {
 // Moves each vertex v of the level to the input vertex, among the samples landed on its star,
 // that lowers the star's weighted squared error most (RefitInput::data_weight, distance_weight):
 // the samples, v's own input vertex now one of them, each landed at its closest point on the star,
-// where the level's error measure finds it. An interior vertex may move to
-// any of them; a vertex on the boundary, where it runs on (`boundary_line`), moves along it: only
-// to a sample on the boundary's line too, on one of its two triangles with a boundary edge at v.
+// where the level's error measure finds it. An interior vertex may move to any of them; a vertex
+// on the boundary, where it runs on (`boundary_line`), moves along it: only to a sample on the
+// boundary's line too, on one of its two triangles with a boundary edge at v.
 // Only the star's triangles change; each must keep its normal within input.flat_cos of the old
 // one (input.turn_cos when there is no component: the distance alone decides) and none may
 // become a sliver, so the triangles and the topology stay; a vertex on a feature edge
