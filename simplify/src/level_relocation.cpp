@@ -318,10 +318,13 @@ private:
             const std::array<double, 2> q = star.project(p);
             const double qx = q[0] - cx[0], qy = q[1] - cx[1];
             const size_t n = wedge.size();
-            size_t on = n;
-            for (size_t i = 0; i < n; ++i) {
+            auto cross_with = [&](size_t i) {
                 const Wedge& g = wedge[i];
                 cross[i] = {g.ax * qy - g.ay * qx, qx * g.by - qy * g.bx};
+            };
+            size_t on = n;
+            for (size_t i = 0; i < n; ++i) {
+                cross_with(i);
                 if (cross[i][0] >= 0 && cross[i][1] >= 0) {
                     on = i;
                     break;
@@ -338,7 +341,7 @@ private:
             for (size_t i = 0; i < n; ++i) {
                 if (i == on) continue;
                 const Wedge& g = wedge[i];
-                if (over && i > on) cross[i] = {g.ax * qy - g.ay * qx, qx * g.by - qy * g.bx};
+                if (over && i > on) cross_with(i); // the search stopped before it
                 const double ca = cross[i][0], cb = cross[i][1];
                 if (g.open && !(ca >= 0 && cb >= 0) &&
                     edge_distance(g, qx, qy, ca, cb) > nearest * margin)
