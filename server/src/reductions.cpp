@@ -125,12 +125,20 @@ void Reductions::forget_surface(const std::string& surface) {
 
 std::shared_ptr<const EncodedLevel> Reductions::level(const ComputedRecord& computed,
                                                       const std::string& key, float keep,
-                                                      v1::Encoding encoding) {
+                                                      v1::Encoding encoding,
+                                                      const std::atomic<bool>* cancelled) {
     const size_t target = protocol::target_for_keep(keep, computed.record.triangles_in());
     return cache_.get<EncodedLevel>(
         "level/" + key + "/" + std::to_string(target) + "/" + std::to_string(int(encoding)), [&] {
             const size_t operations = computed.record.operations_for(target);
-            const Surface s = computed.record.after(operations);
+            std::function<bool(double)> progress;
+            if (cancelled) progress = [cancelled](double) { return !cancelled->load(); };
+            const std::optional<Surface> fitted = computed.record.after(operations, progress);
+            if (!fitted) {
+                ++metrics_.reductions_cancelled;
+                throw Cancelled();
+            }
+            const Surface& s = *fitted;
             auto out = std::make_shared<EncodedLevel>(
                 EncodedLevel{protocol::encode_mesh(s, encoding), s.triangle_count(),
                              s.triangle_count() <= target, operations});

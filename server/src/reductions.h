@@ -73,8 +73,11 @@ public:
                                                  std::shared_ptr<const Surface>* held = nullptr);
     // A cached record of `key` that reaches `depth` triangles, or null (no computation).
     std::shared_ptr<const ComputedRecord> cached_record(const std::string& key, size_t depth);
+    // The level of `record` for `keep`, encoded: cached, or cut and fitted now. Throws Cancelled
+    // when `cancelled` (the computation's flag: nobody waits for it any more) stops the fit.
     std::shared_ptr<const EncodedLevel> level(const ComputedRecord& record, const std::string& key,
-                                              float keep, v1::Encoding encoding);
+                                              float keep, v1::Encoding encoding,
+                                              const std::atomic<bool>* cancelled = nullptr);
 
     // Drops the cached records and levels of a deleted surface. A run in progress on it still
     // caches its record when it ends; that entry goes in its turn, least recently used.

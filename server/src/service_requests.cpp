@@ -282,7 +282,8 @@ void Service::prepare_levels(const RequestJob& job, const ComputedRecord& rec,
     };
     if (!job.progressive) {
         for (size_t i : indices) {
-            auto level = reductions_.level(rec, job.key, job.keep[i], job.encoding);
+            auto level =
+                reductions_.level(rec, job.key, job.keep[i], job.encoding, job.cancelled.get());
             PreparedLevel p{begin_of(i), {level, &level->blob.bytes}};
             p.begin.set_kind(v1::MeshBegin::FULL);
             protocol::set_layout(p.begin, level->blob.layout);
@@ -511,8 +512,9 @@ void Service::send_session_mesh(const Session& s, std::vector<uint64_t> targets)
             bool computed = false;
             auto rec = record_for(reductions_, params, key, depth, *cancelled, &computed);
             seconds = computed ? rec->seconds : 0;
-            if (need_raw) raw = reductions_.level(*rec, key, keep, v1::RAW);
-            if (need_meshopt) meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT);
+            if (need_raw) raw = reductions_.level(*rec, key, keep, v1::RAW, cancelled.get());
+            if (need_meshopt)
+                meshopt = reductions_.level(*rec, key, keep, v1::MESHOPT, cancelled.get());
             set_level_error(error, rec->record,
                             rec->record.operations_for(
                                 protocol::target_for_keep(keep, rec->record.triangles_in())));

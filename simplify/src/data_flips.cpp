@@ -227,6 +227,7 @@ std::vector<uint32_t> flip_edges_for_data(const RefitInput& input, std::vector<L
     // Every flip lowers the samples' error, so the sweeps end; the cap bounds their time on a
     // level whose flips keep making room for more.
     constexpr int kMaxSweeps = 32;
+    constexpr size_t kEdgesPerCheck = 4096; // a few milliseconds of the serial walk
     for (int round = 0; round < kMaxSweeps && !sweep.empty(); ++round) {
         // Which edges gain, as the level stands at the sweep's start (on the threads); each is
         // flipped in its turn if it still gains, as the flips before it may have changed its
@@ -234,9 +235,11 @@ std::vector<uint32_t> flip_edges_for_data(const RefitInput& input, std::vector<L
         worth.assign(sweep.size(), 0), quads.resize(sweep.size());
         parallel.for_each(sweep.size(),
                           [&](size_t k) { worth[k] = flips.gain(sweep[k], quads[k]) > 0; });
+        if (parallel.stopped()) return {};
         std::vector<uint64_t> around;
         const uint32_t stamp = uint32_t(round) + 1;
         for (size_t k = 0; k < sweep.size(); ++k) {
+            if (k % kEdgesPerCheck == kEdgesPerCheck - 1 && !parallel.check()) return {};
             if (!worth[k]) continue;
             // A quad no flip of this sweep has touched gains what it gained at the start, unless
             // a flip has made its other diagonal an edge since.

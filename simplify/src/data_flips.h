@@ -27,7 +27,8 @@ inline constexpr double kFlipFlatDegrees = 20;
 // The first sweep tries every edge, or with `near` (sorted level vertices) only the edges of the
 // triangles at them. Returns the corners of the flipped quads, sorted: the vertices whose stars
 // the flips changed. The same bytes for any number of threads: the threads only find the edges
-// worth trying, which are then tried and flipped one by one in order.
+// worth trying, which are then tried and flipped one by one in order. Once a watch on `parallel`
+// stops (stage_watch.h), the flips end part-way and return nothing.
 std::vector<uint32_t> flip_edges_for_data(const RefitInput& input, std::vector<Landing>& forward,
                                           Surface& level, Parallel& parallel,
                                           const std::vector<uint32_t>* near = nullptr);

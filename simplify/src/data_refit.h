@@ -91,7 +91,7 @@ double landed_sample_error(const RefitInput& input, const Surface& level, uint32
 // overshoots the data it stands for. Then the level's edges are flipped where that lowers the
 // samples' error (flip_edges_for_data), and if any was, the data is fitted once more. The input's
 // own vertices and locked ones keep their positions and data. The same bytes for any number of
-// threads.
+// threads. Once a watch on `parallel` stops (stage_watch.h), the fit ends part-way.
 void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail

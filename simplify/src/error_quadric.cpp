@@ -64,7 +64,11 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi, size_t) {
         auto mine = [&](uint32_t v) { return v >= lo && v < hi; };
         std::vector<double> face(size);
+        // A piece is a thread's whole share: the watch on the threads (stage_watch.h) is checked
+        // every few milliseconds of it.
+        constexpr uint32_t kTrianglesPerCheck = 8192;
         for (uint32_t t = 0; 3 * t < halfedges; ++t) {
+            if (t % kTrianglesPerCheck == kTrianglesPerCheck - 1 && !parallel.check()) return;
             const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1],
                                    mesh.origin[3 * t + 2]};
             if (v[0] == kNone || !(mine(v[0]) || mine(v[1]) || mine(v[2]))) continue;
@@ -120,6 +124,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
                     for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];
         }
     });
+    if (parallel.stopped()) return;
     // The surface's area, summed in triangle order.
     for (uint32_t t = 0; 3 * t < halfedges; ++t) {
         if (mesh.origin[3 * t] == kNone) continue;

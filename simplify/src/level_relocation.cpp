@@ -547,7 +547,8 @@ relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& loc
     // Every move lowers the samples' error, so the sweeps would end; most of what they gain is
     // gained in the first three, and each costs about as much as the one before.
     constexpr uint32_t kMaxSweeps = 3;
-    for (uint32_t round = 1; round <= kMaxSweeps && !sweep.empty(); ++round) {
+    for (uint32_t round = 1; round <= kMaxSweeps && !sweep.empty() && !parallel.stopped();
+         ++round) {
         // The sweep takes its vertices in order, each finding its best move as the moves before
         // it left the level. A vertex's move depends only on the moves of its neighbours before
         // it: so each step finds and makes, on the threads, the moves of the vertices whose
@@ -562,7 +563,7 @@ relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& loc
         for (uint32_t v : sweep)
             if (waiting[v] == 0) ready.push_back(v);
         std::vector<uint8_t> moved;
-        while (!ready.empty()) {
+        while (!ready.empty() && !parallel.stopped()) {
             moved.assign(ready.size(), 0);
             parallel.for_each(
                 ready.size(),
@@ -607,9 +608,12 @@ void settle_level(const RefitInput& input, const std::vector<uint8_t>& locked,
     for (int turn = 0; turn < kMaxTurns && !changed.empty(); ++turn) {
         const std::vector<uint32_t> moved = relocate_level_vertices(
             input, locked, boundary_line, source, forward, level, parallel, changed);
-        if (turn > 0 && moved.empty()) break;
+        if (parallel.stopped() || (turn > 0 && moved.empty())) return;
+        // Most of the work is in the first turn, less in each after it.
+        parallel.reach((turn + 0.5) / (turn + 2));
         changed =
             flip_edges_for_data(input, forward, level, parallel, turn == 0 ? nullptr : &moved);
+        parallel.reach((turn + 1.0) / (turn + 2));
     }
 }
 

@@ -44,7 +44,7 @@ relocate_level_vertices(const RefitInput& input, const std::vector<uint8_t>& loc
 // every vertex and the flips of every edge, then the moves of the vertices whose stars the last
 // flips changed and the flips of the edges around the last moves, until a turn changes nothing
 // (at most eight turns). Arguments as relocate_level_vertices's; the same bytes for any number of
-// threads.
+// threads. Once a watch on `parallel` stops (stage_watch.h), the level is left part-way.
 void settle_level(const RefitInput& input, const std::vector<uint8_t>& locked,
                   const std::vector<uint8_t>& boundary_line, std::vector<uint32_t>& source,
                   std::vector<Landing>& forward, Surface& level, Parallel& parallel);

@@ -3,7 +3,10 @@
 // on how the range is split: the same bytes for any thread count.
 // Under ThreadSanitizer the loops run on plain std::threads instead: Debian's oneTBB is not built
 // for it, so the sanitizer would not see its synchronisation, while thread start and join it sees.
+// While a StageWatch is on (Watching), the loops run in blocks and check it between them.
 #pragma once
+
+#include "stage_watch.h"
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
@@ -26,25 +29,38 @@ public:
           arena_(threads_) {}
     int threads() const { return threads_; }
 
-    // f(begin, end) over [0, n) in pieces of at least `grain` indices.
-    template <class F> void for_range(size_t n, F&& f, size_t grain = 256) {
-        if (threads_ <= 1 || n <= grain) {
-            if (n > 0) f(size_t(0), n);
-            return;
+    // The watch the loops check while an instance lives (one at a time).
+    class Watching {
+    public:
+        Watching(Parallel& parallel, StageWatch& watch) : parallel_(parallel) {
+            parallel_.watch_ = &watch;
         }
-#if defined(__SANITIZE_THREAD__)
-        std::vector<std::thread> pool;
-        const size_t chunk = (n + size_t(threads_) - 1) / size_t(threads_);
-        for (size_t begin = 0; begin < n; begin += chunk)
-            pool.emplace_back([&, begin] { f(begin, std::min(n, begin + chunk)); });
-        for (std::thread& t : pool) t.join();
-        return;
-#endif
-        arena_.execute([&] {
-            oneapi::tbb::parallel_for(
-                oneapi::tbb::blocked_range<size_t>(0, n, grain),
-                [&](const oneapi::tbb::blocked_range<size_t>& r) { f(r.begin(), r.end()); });
-        });
+        ~Watching() { parallel_.watch_ = nullptr; }
+        Watching(const Watching&) = delete;
+        Watching& operator=(const Watching&) = delete;
+
+    private:
+        Parallel& parallel_;
+    };
+    // Whether the watch on has been stopped: the loops since have skipped their work.
+    bool stopped() const { return watch_ && watch_->skipping(); }
+    // Checks the watch on (a stage's serial loop calls it every block of its own); false once
+    // stopped.
+    bool check() { return !watch_ || watch_->check(); }
+    // The part of its stage done (StageWatch::reach).
+    void reach(double part) {
+        if (watch_) watch_->reach(part);
+    }
+
+    // f(begin, end) over [0, n) in pieces of at least `grain` indices. With a watch on: in blocks
+    // of kBlockGrains grains per thread, the watch checked after each; none once it is stopped.
+    template <class F> void for_range(size_t n, F&& f, size_t grain = 256) {
+        if (!watch_) return run_range(0, n, f, grain);
+        const size_t block = grain * kBlockGrains * size_t(threads_);
+        for (size_t begin = 0; begin < n && !watch_->skipping(); begin += block) {
+            run_range(begin, std::min(n, begin + block), f, grain);
+            watch_->check();
+        }
     }
     // f(i) for every i in [0, n).
     template <class F> void for_each(size_t n, F&& f, size_t grain = 256) {
@@ -104,8 +120,33 @@ public:
     }
 
 private:
+    // A loop's grain is a few microseconds of work or less: a block, some milliseconds.
+    static constexpr size_t kBlockGrains = 8;
+
+    template <class F> void run_range(size_t begin, size_t end, F& f, size_t grain) {
+        const size_t n = end - begin;
+        if (threads_ <= 1 || n <= grain) {
+            if (n > 0) f(begin, end);
+            return;
+        }
+#if defined(__SANITIZE_THREAD__)
+        std::vector<std::thread> pool;
+        const size_t chunk = (n + size_t(threads_) - 1) / size_t(threads_);
+        for (size_t from = begin; from < end; from += chunk)
+            pool.emplace_back([&, from] { f(from, std::min(end, from + chunk)); });
+        for (std::thread& t : pool) t.join();
+        return;
+#endif
+        arena_.execute([&] {
+            oneapi::tbb::parallel_for(
+                oneapi::tbb::blocked_range<size_t>(begin, end, grain),
+                [&](const oneapi::tbb::blocked_range<size_t>& r) { f(r.begin(), r.end()); });
+        });
+    }
+
     int threads_;
     oneapi::tbb::task_arena arena_;
+    StageWatch* watch_ = nullptr;
 };
 
 } // namespace ddsimp::detail

@@ -51,9 +51,18 @@ ProgressiveRecord ProgressiveRecord::run(const Surface& input, const Options& op
     RepairReport repairs;
     Surface repaired;
     detail::Parallel parallel(options.threads);
-    const Surface& surface = detail::validated(input, repaired, repairs, parallel);
-    std::vector<float> made; // per collapse: the new point, then its data
-    ProgressiveRecord record = Simplifier(surface, options, repairs).run(made);
+    // The repair is finished even if cancelled meanwhile: a cancelled run still has the repaired
+    // input (its loops are short); the simplifier's set-up then stops at once.
+    detail::StageWatch watch(options.progress, 0, 0, false);
+    const Surface& surface = [&]() -> const Surface& {
+        const detail::Parallel::Watching watching(parallel, watch);
+        return detail::validated(input, repaired, repairs, parallel);
+    }();
+    std::vector<float> made;         // per collapse: the new point, then its data
+    std::optional<Options> stopping; // cancelled during the repair: the set-up stops at once
+    if (watch.stopped()) stopping = options, stopping->progress = [](double) { return false; };
+    ProgressiveRecord record =
+        Simplifier(surface, stopping ? *stopping : options, repairs).run(made);
     record.take_input(surface, made);
     // After the run, when the simplifier's memory is gone: the measurement's peak stays below it.
     if (measure) record.measure_errors(options.gradient_fields);
@@ -131,14 +140,21 @@ std::vector<uint32_t> ProgressiveRecord::indexed_triangles(size_t operations) co
 }
 
 Surface ProgressiveRecord::after(size_t operations) const {
-    return level_after(operations, true);
+    return *level_after(operations, true);
+}
+
+std::optional<Surface> ProgressiveRecord::after(size_t operations,
+                                                const std::function<bool(double)>& progress) const {
+    return level_after(operations, true, progress);
 }
 
 Surface ProgressiveRecord::after_as_recorded(size_t operations) const {
-    return level_after(operations, false);
+    return *level_after(operations, false);
 }
 
-Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
+std::optional<Surface>
+ProgressiveRecord::level_after(size_t operations, bool fit_data,
+                               const std::function<bool(double)>& progress) const {
     operations = std::min(operations, this->operations());
     std::vector<uint32_t> triangles = indexed_triangles(operations);
 
@@ -169,12 +185,13 @@ Surface ProgressiveRecord::level_after(size_t operations, bool fit_data) const {
     // by the distance alone if there is no component.
     const bool refitted =
         strategy_ == Strategy::VertexRemoval ? refit_diagonal_ > 0 : !refit_components_.empty();
-    if (fit_data && refitted && operations > 0) refit(operations, index, out);
+    if (fit_data && refitted && operations > 0 && !refit(operations, index, out, progress))
+        return std::nullopt;
     return out;
 }
 
-void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& index,
-                              Surface& level) const {
+bool ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& index, Surface& level,
+                              const std::function<bool(double)>& progress) const {
     detail::RefitInput input;
     input.surface = &vertices_;
     input.vertices = input_vertices_;
@@ -186,18 +203,21 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.turn_cos = refit_turn_cos_;
     input.feature_cos = refit_feature_cos_;
     detail::Parallel parallel(threads_);
+    detail::StageWatch watch(progress, 0, 1);
+    const detail::Parallel::Watching watching(parallel, watch);
     if (strategy_ == Strategy::VertexRemoval) { // input vertices with their data, no value fitted
         // Ties of distances as the level's error measure has them (level_error.cpp).
         constexpr double kTie = 1e-12;
         std::vector<detail::Landing> landed =
             covered_landings(vertices_.positions, input_vertices_, base_triangles_, write_begin_,
                              writes_, operations, kTie * refit_diagonal_, parallel);
+        if (parallel.stopped()) return false;
         std::vector<uint32_t> source(level.vertex_count());
         for (size_t v = 0; v < input_vertices_; ++v)
             if (index[v] != detail::kNoOwner) source[index[v]] = uint32_t(v);
         detail::settle_level(input, locked_input_, boundary_line_input_, source, landed, level,
                              parallel);
-        return;
+        return !parallel.stopped();
     }
     const std::vector<uint32_t> map = collapse_map(operations);
     // index marks the ids the level does not keep with 0xffffffff, which is kNoOwner: an input
@@ -217,6 +237,7 @@ void ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     for (size_t v = input_vertices_; v < map.size(); ++v)
         if (index[v] != detail::kNoOwner && !locked[v]) input.free[index[v]] = 1;
     detail::refit_data(input, level, parallel);
+    return !parallel.stopped();
 }
 
 } // namespace ddsimp

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <optional>
 
 namespace ddsimp {
 
@@ -12,6 +14,10 @@ using detail::kNone;
 using detail::VertexKind;
 
 namespace {
+
+// The share of simplify()'s work the run does before the level's fit, for the progress it
+// reports: about what the run takes on the benchmark surfaces (bench/README.md).
+constexpr double kRunShareEdgeCollapse = 0.75, kRunShareVertexRemoval = 0.5;
 
 detail::Limits limits_from(const Options& o) {
     auto cosine = [](double degrees) { return std::cos(degrees * std::numbers::pi / 180.0); };
@@ -52,6 +58,21 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
         throw InputError("invalid option: locked has " + std::to_string(options.locked.size()) +
                          " entries, but the surface has " + std::to_string(surface.vertex_count()) +
                          " vertices");
+    record_.strategy_ = options.strategy;
+    record_.threads_ = options.threads;
+    record_.triangles_in_ = surface.triangle_count();
+    record_.input_vertices_ = surface.vertex_count();
+    record_.repairs_ = repairs;
+    if (options.strategy == Strategy::VertexRemoval) record_.write_begin_.push_back(0);
+    detail::StageWatch watch(options.progress, 0, 0);
+    {
+        const detail::Parallel::Watching watching(parallel_, watch);
+        set_up(surface, options);
+    }
+    cancelled_ = watch.stopped();
+}
+
+void Simplifier::set_up(const Surface& surface, const Options& options) {
     gradient_.setup(surface, options.gradient_fields);
     // A collapse puts its new vertex in the slot of one of its ends, so the live vertices stay
     // where the locality order put them and the capacity is the input's.
@@ -65,6 +86,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     }
     mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
     mesh_.build(surface, capacity, limits_from(options), id_, rank_, &parallel_); // locality order
+    if (parallel_.stopped()) return;
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
     // Edge collapse's ids are half-edges, vertex removal's vertices.
     const size_t ids = collapse ? surface.triangles.size() : capacity;
@@ -81,13 +103,6 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (collapse) assign_on_threads(fail_at_, surface.triangles.size(), kNoFold, parallel_);
     if (collapse) assign_on_threads(refusal_near_, capacity, 0, parallel_);
 
-    record_.strategy_ = options.strategy;
-    record_.threads_ = options.threads;
-    record_.triangles_in_ = surface.triangle_count();
-    record_.input_vertices_ = surface.vertex_count();
-    record_.repairs_ = repairs;
-    if (options.strategy == Strategy::VertexRemoval) record_.write_begin_.push_back(0);
-
     const size_t n = surface.vertex_count();
     for (uint32_t v = 0; v < n; ++v) vertices_in_use_ += mesh_.kind[v] != VertexKind::Dead;
     quadric_terms_ = options.terms == Terms::ErrorQuadrics;
@@ -96,6 +111,7 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
     if (quadric_terms_ || least_error_)
         quadrics_.setup(mesh_, gradient_, geometry_weight(), 1 - options.alpha, capacity,
                         parallel_);
+    if (parallel_.stopped()) return;
     // Edge collapse's levels fit these components' least squares to their new points and flip
     // their edges where these components fit the input better. Vertex removal's levels move their
     // vertices and flip their edges where the input's samples fit better, in these components and
@@ -154,8 +170,11 @@ Simplifier::Simplifier(const Surface& surface, const Options& options, const Rep
                            (1 - options.alpha) * gradient[v] * gradient_scale_);
     if (!collapse) {
         shortest_.assign(capacity, 0);
-        for (uint32_t v = 0; v < n; ++v)
+        constexpr uint32_t kKeysPerCheck = 4096; // a few milliseconds of the serial keys
+        for (uint32_t v = 0; v < n; ++v) {
+            if (v % kKeysPerCheck == kKeysPerCheck - 1 && !parallel_.check()) return;
             if (mesh_.kind[v] != VertexKind::Dead) key_removal(v);
+        }
     }
 }
 
@@ -528,14 +547,35 @@ ProgressiveRecord Simplifier::run(std::vector<float>& made_points) {
 }
 
 Result simplify(const Surface& input, const Options& options) {
-    const ProgressiveRecord record = ProgressiveRecord::run(input, options, false);
+    // Progress: the run reports up to its share of the work, the level's fit the rest. Once the
+    // callback says stop, the level is the one reached, not fitted.
+    const double run_share = options.strategy == Strategy::VertexRemoval ? kRunShareVertexRemoval
+                                                                         : kRunShareEdgeCollapse;
+    bool stopped = false;
+    Options run_options = options;
+    if (options.progress)
+        run_options.progress = [&](double done) {
+            stopped = stopped || !options.progress(done * run_share);
+            return !stopped;
+        };
+    const ProgressiveRecord record = ProgressiveRecord::run(input, run_options, false);
+    std::optional<Surface> fitted;
+    if (!stopped) {
+        std::function<bool(double)> fit_progress;
+        if (options.progress)
+            fit_progress = [&](double done) {
+                return options.progress(run_share + done * (1 - run_share));
+            };
+        fitted = record.after(record.operations(), fit_progress);
+        if (fitted && options.progress) options.progress(1.0);
+    }
     Result result;
-    result.surface = record.after(record.operations());
+    result.surface = fitted ? std::move(*fitted) : record.after_as_recorded(record.operations());
     result.triangles_in = record.triangles_in();
     result.triangles_out = result.surface.triangle_count();
     result.operations = record.operations();
-    result.stop = record.stop();
-    result.target_reached = record.stop() == StopReason::TargetReached;
+    result.stop = fitted ? record.stop() : StopReason::Cancelled;
+    result.target_reached = result.stop == StopReason::TargetReached;
     result.repairs = record.repairs();
     return result;
 }

@@ -21,7 +21,9 @@ namespace ddsimp {
 
 class Simplifier {
 public:
-    // `surface` must have passed `validate` and must outlive run().
+    // `surface` must have passed `validate` and must outlive run(). The set-up calls
+    // Options::progress(0) every few milliseconds of work; if that asks to stop, run() records
+    // no operation.
     Simplifier(const Surface& surface, const Options& options, const RepairReport& repairs);
     // The record of the run; the points the collapses made (with their data, 3 + the fields'
     // components per point) into `made_points`, for the record's vertices (progressive_record.cpp
@@ -248,6 +250,8 @@ private:
     // The candidates that the round's refused or waiting ones blocked into pending_: the others
     // are next to a taken operation now.
     void pend_blocked();
+    // The constructor's work, with a watch on parallel_: returns early once it is stopped.
+    void set_up(const Surface& surface, const Options& options);
     // Calls Options::progress (on the calling thread); false once it asked to stop.
     bool checkpoint();
     // f(begin, end) over [0, n) on the threads, block by block of kBlock items, with a progress

@@ -37,6 +37,9 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     } else {
         origin.assign(s.triangles.begin(), s.triangles.end());
     }
+    // Once a watch on the threads stops a loop (stage_watch.h), the serial steps between the
+    // loops would read what it left undone: the build ends there.
+    if (parallel.stopped()) return;
     assign_on_threads(twin, halfedges, kNone, parallel);
     assign_on_threads(line, halfedges, 0, parallel);
     assign_on_threads(angle, track_angles ? halfedges : 0, 0.0f, parallel);
@@ -80,6 +83,7 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
         else
             line[h] = same + opposite > 1 ? 1 | kCrowded : 1;
     });
+    if (parallel.stopped()) return;
     for (uint32_t h = 0; h < halfedges; ++h)
         if (line[h] & kCrowded) line[h] = 1, kind[origin[h]] = kind[dest(h)] = VertexKind::Complex;
 
@@ -136,6 +140,7 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
             line[h] = line[t] = 1;
         if (dot(n0, n1) < kFoldCos) line[h] |= kFold;
     });
+    if (parallel.stopped()) return;
     for (uint32_t h = 0; h < halfedges; ++h) {
         if (!(line[h] & kFold)) continue;
         line[h] &= ~kFold;

@@ -146,7 +146,8 @@ struct WorkingMesh {
     // angle deficit reads them; without them `angle` stays empty and classify returns 0.
     bool track_angles = true;
 
-    // Builds the half-edges, twins, line flags and vertex kinds for a validated surface.
+    // Builds the half-edges, twins, line flags and vertex kinds for a validated surface (part-way
+    // if a watch on `threads` stops it, stage_watch.h).
     // `capacity` is the number of vertex slots to reserve. With `order` and `rank` (each the
     // other's inverse) vertex v is the surface's vertex order[v] and a triangle's index i becomes
     // rank[i], read in place rather than from a reordered copy; empty: the surface's ids.

@@ -2,6 +2,9 @@
 // for byte; after(0) is the repaired input; the triangle counts go down.
 #include "test_surfaces.h"
 
+#include <optional>
+#include <thread>
+
 namespace ddsimp::test {
 namespace {
 
@@ -81,6 +84,47 @@ TEST_P(Progressive, AfterZeroKeepsTheInputOrder) {
     Surface expected = in;
     validate(expected);
     EXPECT_TRUE(same_bytes(rec.after(0), compact(expected)));
+}
+
+// The level's fit reports its progress on the calling thread, fractions in [0, 1] that never go
+// down, and stops at once, with nothing, when the callback says so; watched, it gives the same
+// level as unwatched.
+TEST_P(Progressive, TheLevelFitReportsProgressAndCanBeCancelled) {
+    const Surface in = with_test_fields(grid(120, 120)); // 28,800 triangles
+    Options o = record_options();
+    o.threads = 4;
+    const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+    const size_t operations = record.operations_for(in.triangle_count() / 10);
+    const Surface fitted = record.after(operations);
+    ASSERT_FALSE(
+        same_floats(fitted.positions, record.after_as_recorded(operations).positions) &&
+        same_floats(fitted.fields[0].values, record.after_as_recorded(operations).fields[0].values))
+        << "the level is not fitted: nothing to watch";
+    const std::thread::id caller = std::this_thread::get_id();
+    std::vector<double> seen;
+    size_t elsewhere = 0;
+    const std::optional<Surface> watched = record.after(operations, [&](double f) {
+        seen.push_back(f);
+        elsewhere += std::this_thread::get_id() != caller;
+        return true;
+    });
+    ASSERT_TRUE(watched.has_value());
+    EXPECT_TRUE(same_floats(watched->positions, fitted.positions));
+    EXPECT_EQ(watched->triangles, fitted.triangles);
+    for (size_t f = 0; f < fitted.fields.size(); ++f)
+        EXPECT_TRUE(same_floats(watched->fields[f].values, fitted.fields[f].values));
+    EXPECT_GT(seen.size(), 3u);
+    EXPECT_EQ(elsewhere, 0u);
+    for (size_t i = 0; i < seen.size(); ++i) {
+        EXPECT_GE(seen[i], 0.0);
+        EXPECT_LE(seen[i], 1.0);
+        if (i) {
+            EXPECT_GE(seen[i], seen[i - 1]);
+        }
+    }
+    size_t calls = 0;
+    EXPECT_FALSE(record.after(operations, [&](double) { return ++calls < 2; }).has_value());
+    EXPECT_EQ(calls, 2u) << "called again after it said stop";
 }
 
 TEST_P(Progressive, TriangleCountsGoDown) {

@@ -318,6 +318,69 @@ TEST_P(Simplify, NoProgressCallAfterCancelling) {
     EXPECT_EQ(seen.size(), 2u) << "last call: progress(" << seen.back() << ")";
 }
 
+// The set-up reports progress too: with nothing to remove, every call but the last comes from it,
+// and it can be cancelled there.
+TEST_P(Simplify, TheSetUpReportsProgressAndCanBeCancelled) {
+    const Surface in = with_test_fields(grid(120, 120));
+    Options o = options();
+    o.keep_fraction = 1.0; // the target is met: no pass runs
+    std::vector<double> seen;
+    o.progress = [&](double f) {
+        seen.push_back(f);
+        return true;
+    };
+    const Result done = simplify(in, o);
+    EXPECT_EQ(done.stop, StopReason::TargetReached);
+    ASSERT_GT(seen.size(), 2u) << "the set-up never reported";
+    EXPECT_EQ(seen.front(), 0.0);
+    seen.clear();
+    o.progress = [&](double f) {
+        seen.push_back(f);
+        return false;
+    };
+    const Result cancelled = simplify(in, o);
+    EXPECT_EQ(cancelled.stop, StopReason::Cancelled);
+    EXPECT_EQ(seen.size(), 1u);
+    EXPECT_EQ(cancelled.operations, 0u);
+    EXPECT_TRUE(well_formed(cancelled.surface));
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(cancelled.surface)));
+}
+
+// simplify() reports the level's fit after the run: more calls than the run alone makes (the
+// record's build, which runs the same set-up and passes), and a cancel there ends it with the
+// level as the run reached it, not fitted, and no call after.
+TEST_P(Simplify, TheLevelFitReportsProgressAndCanBeCancelled) {
+    const Surface in = with_test_fields(grid(120, 120));
+    Options o = options();
+    size_t run_calls = 0;
+    o.progress = [&](double) {
+        ++run_calls;
+        return true;
+    };
+    const ProgressiveRecord record = ProgressiveRecord::build(in, o);
+    const Surface as_run = record.after_as_recorded(record.operations());
+    ASSERT_FALSE(
+        same_floats(record.after(record.operations()).positions, as_run.positions) &&
+        same_floats(record.after(record.operations()).fields[0].values, as_run.fields[0].values))
+        << "the level is not fitted: nothing to watch";
+    size_t calls = 0;
+    o.progress = [&](double) {
+        ++calls;
+        return true;
+    };
+    EXPECT_EQ(simplify(in, o).stop, StopReason::TargetReached);
+    EXPECT_GT(calls, run_calls + 1) << "the fit never reported";
+    calls = 0;
+    o.progress = [&](double) { return ++calls <= run_calls; }; // stop at the fit's first call
+    const Result r = simplify(in, o);
+    EXPECT_EQ(r.stop, StopReason::Cancelled);
+    EXPECT_FALSE(r.target_reached);
+    EXPECT_EQ(calls, run_calls + 1);
+    EXPECT_EQ(r.operations, record.operations());
+    EXPECT_TRUE(same_floats(r.surface.positions, as_run.positions));
+    EXPECT_EQ(r.surface.triangles, as_run.triangles);
+}
+
 // --- options ---------------------------------------------------------------------------------
 
 TEST_P(Simplify, RejectsInvalidOptions) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -306,6 +307,11 @@ public:
     // is nearly flat, its edges are flipped where the input fits better (edge collapse: not at
     // alpha = 1).
     Surface after(size_t operations) const;
+    // The same, calling `progress` with the fraction of the fit done as Options::progress is
+    // called (on the calling thread, every few milliseconds of work); nothing once it returns
+    // false: the fit stops at once.
+    std::optional<Surface> after(size_t operations,
+                                 const std::function<bool(double)>& progress) const;
     // The same level with each vertex's position and data as vertices() carries them, never
     // fitted, nor its edges flipped, nor its vertices moved: what a refinement stream (vertices()
     // and indexed_triangles) shows, level after level. As many vertices as after(), in the same
@@ -379,12 +385,14 @@ private:
     int threads_ = 0; // Options::threads, for the fit
     // Edge collapse: per vertex id up to the first `operations` collapses, the id it went into.
     std::vector<uint32_t> collapse_map(size_t operations) const;
-    // after() and after_as_recorded().
-    Surface level_after(size_t operations, bool fit_data) const;
+    // after() and after_as_recorded(); nothing if `progress` stopped the fit.
+    std::optional<Surface> level_after(size_t operations, bool fit_data,
+                                       const std::function<bool(double)>& progress = {}) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`; edge
     // collapse) or moves its vertices (vertex removal), and flips its edges where the data fits
-    // better (both strategies).
-    void refit(size_t operations, const std::vector<uint32_t>& index, Surface& level) const;
+    // better (both strategies). False if `progress` stopped it.
+    bool refit(size_t operations, const std::vector<uint32_t>& index, Surface& level,
+               const std::function<bool(double)>& progress) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;
