@@ -7,8 +7,9 @@
 //
 // The surface comes from --surface, else $DDSIMP_BENCH_SURFACE, else bench/data/carotid-1m.vtp
 // (made by bench/make-data.sh). It is loaded once, before any timing. Each benchmark reports the
-// triangles it actually reached as counters; a ddsimp failure (an exception) marks the benchmark
-// as errored and makes the program exit with status 1.
+// triangles it actually reached as counters, ddsimp's also the longest stretch without a progress
+// call (longest_silence_s); a ddsimp failure (an exception) marks the benchmark as errored and
+// makes the program exit with status 1.
 #include "ddsimp/io/surface_io.h" // io/, from the ddsimp_io target
 
 #include <ddsimp/ddsimp.h>
@@ -16,7 +17,9 @@
 #include <benchmark/benchmark.h>
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cfloat>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -80,11 +83,27 @@ void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
     options.placement = placement;
     options.target_triangles = target_triangles(keep);
     options.threads = int(state.range(0));
+    // The longest stretch without a progress call (from the start, between calls, to the end):
+    // how long a cancel may wait, as a user's progress bar or the server sees it.
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point last;
+    double longest_silence = 0;
+    auto silence_until = [&](Clock::time_point now) {
+        longest_silence =
+            std::max(longest_silence, std::chrono::duration<double>(now - last).count());
+        last = now;
+    };
+    options.progress = [&](double) {
+        silence_until(Clock::now());
+        return true;
+    };
     size_t in = 0, out = 0, operations = 0;
     bool reached = false;
     for (auto _ : state) {
         try {
+            last = Clock::now();
             ddsimp::Result result = ddsimp::simplify(g_surface, options);
+            silence_until(Clock::now());
             in = result.triangles_in;
             out = result.triangles_out;
             operations = result.operations;
@@ -100,6 +119,7 @@ void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
     report_triangles(state, in, out, keep);
     state.counters["operations"] = static_cast<double>(operations);
     state.counters["target_reached"] = reached ? 1 : 0;
+    state.counters["longest_silence_s"] = longest_silence;
 }
 
 void BM_ddsimp_edge_collapse(benchmark::State& state) {

@@ -120,7 +120,8 @@ public:
     }
 
 private:
-    // A loop's grain is a few microseconds of work or less: a block, some milliseconds.
+    // A loop's grain is at most about a millisecond of work: a block, eight per thread, some
+    // milliseconds.
     static constexpr size_t kBlockGrains = 8;
 
     template <class F> void run_range(size_t begin, size_t end, F& f, size_t grain) {

@@ -19,6 +19,7 @@ covered_landings(const std::vector<float>& positions, size_t input_vertices,
                  const std::vector<uint32_t>& writes, size_t operations, double tie,
                  detail::Parallel& parallel) {
     const detail::RemovalCover cover(triangles, input_vertices, write_begin, writes, operations);
+    if (!parallel.check()) return {};
     // The level's triangles are the live slots, in slot order; the write that covers a point is
     // the last to its slot.
     std::vector<uint32_t> triangle_of(triangles.size() / 3, 0);
@@ -156,7 +157,10 @@ std::optional<Surface>
 ProgressiveRecord::level_after(size_t operations, bool fit_data,
                                const std::function<bool(double)>& progress) const {
     operations = std::min(operations, this->operations());
+    // The replay's steps are serial: the watch is checked between them.
+    detail::StageWatch watch(progress, 0, 1);
     std::vector<uint32_t> triangles = indexed_triangles(operations);
+    if (!watch.check()) return std::nullopt;
 
     // Keep the referenced vertices, in the order of their ids.
     const size_t nv = vertices_.vertex_count();
@@ -179,19 +183,20 @@ ProgressiveRecord::level_after(size_t operations, bool fit_data,
                 std::copy_n(&f.values[v * nc], nc, &g.values[size_t(index[v]) * nc]);
         out.fields.push_back(std::move(g));
     }
+    if (!watch.check()) return std::nullopt;
     for (uint32_t& v : triangles) v = index[v];
     out.triangles = std::move(triangles);
     // Edge collapse fits its data components; vertex removal moves vertices and flips edges,
     // by the distance alone if there is no component.
     const bool refitted =
         strategy_ == Strategy::VertexRemoval ? refit_diagonal_ > 0 : !refit_components_.empty();
-    if (fit_data && refitted && operations > 0 && !refit(operations, index, out, progress))
+    if (fit_data && refitted && operations > 0 && !refit(operations, index, out, watch))
         return std::nullopt;
     return out;
 }
 
 bool ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& index, Surface& level,
-                              const std::function<bool(double)>& progress) const {
+                              detail::StageWatch& watch) const {
     detail::RefitInput input;
     input.surface = &vertices_;
     input.vertices = input_vertices_;
@@ -203,7 +208,6 @@ bool ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
     input.turn_cos = refit_turn_cos_;
     input.feature_cos = refit_feature_cos_;
     detail::Parallel parallel(threads_);
-    detail::StageWatch watch(progress, 0, 1);
     const detail::Parallel::Watching watching(parallel, watch);
     if (strategy_ == Strategy::VertexRemoval) { // input vertices with their data, no value fitted
         // Ties of distances as the level's error measure has them (level_error.cpp).
@@ -220,6 +224,7 @@ bool ProgressiveRecord::refit(size_t operations, const std::vector<uint32_t>& in
         return !parallel.stopped();
     }
     const std::vector<uint32_t> map = collapse_map(operations);
+    if (!parallel.check()) return false;
     // index marks the ids the level does not keep with 0xffffffff, which is kNoOwner: an input
     // vertex no triangle uses has no owner.
     static_assert(detail::kNoOwner == 0xffffffffu);

@@ -56,13 +56,17 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     Array<uint32_t> first(vertex_count + 1, 0);
     for (uint32_t v : origin) ++first[v + 1];
     std::partial_sum(first.begin(), first.end(), first.begin());
+    if (!parallel.check()) return;
     Array<uint32_t> outgoing(halfedges), to(halfedges);
     Array<uint32_t> fill(first.begin(), first.end() - 1);
-    for (uint32_t h = 0; h < halfedges; h += 3) // a triangle's three half-edges
+    constexpr uint32_t kHalfedgesPerCheck = 3 << 16; // a few milliseconds of the serial sort
+    for (uint32_t h = 0; h < halfedges; h += 3) {    // a triangle's three half-edges
+        if (h % kHalfedgesPerCheck == kHalfedgesPerCheck - 3 && !parallel.check()) return;
         for (uint32_t c = 0; c < 3; ++c) {
             const uint32_t k = fill[origin[h + c]]++;
             outgoing[k] = h + c, to[k] = origin[h + (c == 2 ? 0 : c + 1)];
         }
+    }
     Array<uint32_t>().swap(fill);
 
     for (uint32_t v = 0; v < vertex_count; ++v)

@@ -234,9 +234,12 @@ struct Options {
     // hardware thread. The output bytes do not depend on it.
     int threads = 0;
     // Called with the fraction of the work done (non-decreasing, in [0, 1]) at least every few
-    // thousand items of a stage's work (every ~10 ms or less on one core), always on the thread
-    // that called simplify or ProgressiveRecord::build, never concurrently; return false to
-    // cancel: the run stops at its next call (StopReason::Cancelled) and does not call it again.
+    // thousand items of a stage's work, in the set-up (fraction 0), the passes and, in simplify,
+    // the level's fit: every few tens of milliseconds on one core, at most a few tenths of a
+    // second on a million triangles (the set-up's serial steps, the first ranking's sort). Always
+    // on the thread that called simplify or ProgressiveRecord::build, never concurrently; return
+    // false to cancel: the run stops at its next call (StopReason::Cancelled) and does not call
+    // it again. The input's repair is finished first, so that a cancelled run still has it.
     std::function<bool(double)> progress;
 };
 
@@ -251,7 +254,9 @@ size_t target_triangles(const Options& options, size_t triangles_in);
 
 // What a simplification did.
 struct Result {
-    Surface surface; // the reduced surface, every field carried, unused vertices dropped
+    // The reduced surface, every field carried, unused vertices dropped. Cancelled: the level the
+    // run had reached, as recorded (not fitted, see ProgressiveRecord::after_as_recorded).
+    Surface surface;
     size_t triangles_in = 0;
     size_t triangles_out = 0;
     size_t operations = 0;
@@ -292,6 +297,10 @@ struct LevelError {
 // The ordered operations of one run for (surface, options), from which every coarser level is
 // extracted without re-running: `level(n)` equals `simplify` with target_triangles = n exactly,
 // as long as that run would stop for its target and not earlier.
+namespace detail {
+class StageWatch; // the progress of a level's fit (simplify/src/stage_watch.h)
+}
+
 class ProgressiveRecord {
 public:
     // Runs until `options`'s target (usually set low, e.g. keep_fraction = 0) or until nothing
@@ -390,9 +399,9 @@ private:
                                        const std::function<bool(double)>& progress = {}) const;
     // Fits `level`'s data (after(operations), `index`: vertex id -> its vertex in `level`; edge
     // collapse) or moves its vertices (vertex removal), and flips its edges where the data fits
-    // better (both strategies). False if `progress` stopped it.
+    // better (both strategies). False if `watch` stopped it.
     bool refit(size_t operations, const std::vector<uint32_t>& index, Surface& level,
-               const std::function<bool(double)>& progress) const;
+               detail::StageWatch& watch) const;
     // Vertex removal: operation i rewrites the triangle slots writes_[write_begin_[i] ..
     // write_begin_[i+1]); a write is {slot, a, b, c}, a == kDead retires the slot.
     std::vector<uint32_t> write_begin_;
