@@ -52,10 +52,11 @@ public:
         if (watch_) watch_->reach(part);
     }
 
-    // f(begin, end) over [0, n) in pieces of at least `grain` indices. With a watch on: in blocks
-    // of kBlockGrains grains per thread, the watch checked after each; none once it is stopped.
+    // f(begin, end) over [0, n) in pieces of at least `grain` indices. With a watch on that
+    // reports: in blocks of kBlockGrains grains per thread, the watch checked after each; none
+    // once it is stopped.
     template <class F> void for_range(size_t n, F&& f, size_t grain = 256) {
-        if (!watch_) return run_range(0, n, f, grain);
+        if (!watch_ || !watch_->reports()) return run_range(0, n, f, grain);
         const size_t block = grain * kBlockGrains * size_t(threads_);
         for (size_t begin = 0; begin < n && !watch_->skipping(); begin += block) {
             run_range(begin, std::min(n, begin + block), f, grain);

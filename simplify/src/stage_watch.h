@@ -34,6 +34,8 @@ public:
         return !stopped();
     }
     bool stopped() const { return stopped_.load(std::memory_order_relaxed); }
+    // Whether there is anything to report to: without a callback the loops run whole.
+    bool reports() const { return bool(progress_); }
     // Whether the loops skip their work: stopped, and not only reporting.
     bool skipping() const { return skips_ && stopped(); }
 
