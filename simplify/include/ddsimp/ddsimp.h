@@ -294,13 +294,13 @@ struct LevelError {
     size_t data_components = 0; // the data components measured (0: no data error measured)
 };
 
-// The ordered operations of one run for (surface, options), from which every coarser level is
-// extracted without re-running: `level(n)` equals `simplify` with target_triangles = n exactly,
-// as long as that run would stop for its target and not earlier.
 namespace detail {
 class StageWatch; // the progress of a level's fit (simplify/src/stage_watch.h)
 }
 
+// The ordered operations of one run for (surface, options), from which every coarser level is
+// extracted without re-running: `level(n)` equals `simplify` with target_triangles = n exactly,
+// as long as that run would stop for its target and not earlier.
 class ProgressiveRecord {
 public:
     // Runs until `options`'s target (usually set low, e.g. keep_fraction = 0) or until nothing
