@@ -582,6 +582,18 @@ inline bool same_floats(const std::vector<float>& a, const std::vector<float>& b
            (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0);
 }
 
+// A progress callback's fractions: each in [0, 1], none below the one before.
+inline ::testing::AssertionResult progress_in_order(const std::vector<double>& seen) {
+    for (size_t i = 0; i < seen.size(); ++i) {
+        if (!(seen[i] >= 0.0 && seen[i] <= 1.0))
+            return ::testing::AssertionFailure() << "call " << i << ": " << seen[i];
+        if (i > 0 && seen[i] < seen[i - 1])
+            return ::testing::AssertionFailure()
+                   << "call " << i << ": " << seen[i] << " after " << seen[i - 1];
+    }
+    return ::testing::AssertionSuccess();
+}
+
 // Byte-for-byte equality of positions, triangles and fields.
 inline ::testing::AssertionResult same_bytes(const Surface& a, const Surface& b) {
     if (!same_floats(a.positions, b.positions))
