@@ -14,6 +14,8 @@
 
 #include <ddsimp/ddsimp.h>
 
+#include "pass_counts.h" // the engine's, from simplify/src
+
 #include <benchmark/benchmark.h>
 #include <meshoptimizer.h>
 
@@ -99,8 +101,10 @@ void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
     };
     size_t in = 0, out = 0, operations = 0;
     bool reached = false;
+    ddsimp::detail::PassCounts& passes = ddsimp::detail::pass_counts();
     for (auto _ : state) {
         try {
+            passes.reset(); // the last run's
             last = Clock::now();
             ddsimp::Result result = ddsimp::simplify(g_surface, options);
             silence_until(Clock::now());
@@ -120,6 +124,15 @@ void BM_ddsimp(benchmark::State& state, ddsimp::Strategy strategy,
     state.counters["operations"] = static_cast<double>(operations);
     state.counters["target_reached"] = reached ? 1 : 0;
     state.counters["longest_silence_s"] = longest_silence;
+    // How the passes went: a check that waits or is refused, and a visit of the walk that selects
+    // nothing, is work that removes nothing.
+    auto per_operation = [&](const std::atomic<size_t>& count) {
+        return operations > 0 ? double(count.load()) / double(operations) : 0.0;
+    };
+    state.counters["passes"] = double(passes.passes.load());
+    state.counters["walked_per_op"] = per_operation(passes.walked);
+    state.counters["waited_per_op"] = per_operation(passes.waited);
+    state.counters["refused_per_op"] = per_operation(passes.refused);
 }
 
 void BM_ddsimp_edge_collapse(benchmark::State& state) {

@@ -1,6 +1,7 @@
 #include "simplifier.h"
 
 #include "data_flips.h"
+#include "pass_counts.h"
 
 #include <algorithm>
 #include <cmath>
@@ -349,6 +350,15 @@ bool Simplifier::checkpoint() {
     return !cancelled_;
 }
 
+void Simplifier::count_pass(size_t walked, size_t waited, size_t refused) const {
+    detail::PassCounts& counts = detail::pass_counts();
+    counts.passes.fetch_add(1, std::memory_order_relaxed);
+    counts.walked.fetch_add(walked, std::memory_order_relaxed);
+    counts.taken.fetch_add(taken_.size(), std::memory_order_relaxed);
+    counts.waited.fetch_add(waited, std::memory_order_relaxed);
+    counts.refused.fetch_add(refused, std::memory_order_relaxed);
+}
+
 bool Simplifier::run_pass(size_t target, StopReason& stop) {
     const bool collapse = options_.strategy == Strategy::EdgeCollapse;
     size_t share = 0;
@@ -400,7 +410,9 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         pending_.push_back(i);
     checked_.clear();
     const uint32_t pass_stamp = stamp_ + 1; // the first round's
+    size_t walked = 0, waited = 0, refused = 0;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
+        walked += pending_.size();
         const uint32_t round_stamp = ++stamp_;
         // Each selected one's plan and check after the rounds' before it: the taken ones stay
         // where their check put them until they are applied, and hold their neighbourhoods for
@@ -420,6 +432,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         bool freed = false;
         for (size_t i = 0; i < selected_.size(); ++i) {
             if (checked_[first + i] != Check::Taken) {
+                ++(checked_[first + i] == Check::Waits ? waited : refused);
                 freed = true;
                 continue;
             }
@@ -429,6 +442,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         pend_blocked();
     }
     std::sort(taken_.begin(), taken_.end());
+    count_pass(walked, waited, refused);
 
     // Apply in key order, as far as the target: a direct run to any target stops at the first
     // operation that reaches it, so every run is a prefix of the one record.

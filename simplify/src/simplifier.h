@@ -194,6 +194,9 @@ private:
     void drop_stale();
     // One pass (see the pipeline above); returns true with `stop` set when the run is over.
     bool run_pass(size_t target, StopReason& stop);
+    // Adds the pass to detail::pass_counts(): the candidates its selection walks visited, and
+    // its checks that waited or were refused (taken_ holds those taken).
+    void count_pass(size_t walked, size_t waited, size_t refused) const;
     // Selection rounds per pass (see run_pass).
     static constexpr int kSelectionRounds = 2;
     // A candidate's neighbourhood: the vertices its operation reads or changes (those it moves or

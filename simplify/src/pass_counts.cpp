@@ -1,0 +1,10 @@
+#include "pass_counts.h"
+
+namespace ddsimp::detail {
+
+PassCounts& pass_counts() {
+    static PassCounts counts;
+    return counts;
+}
+
+} // namespace ddsimp::detail
