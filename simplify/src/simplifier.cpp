@@ -410,9 +410,9 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         pending_.push_back(i);
     checked_.clear();
     const uint32_t pass_stamp = stamp_ + 1; // the first round's
-    size_t walked = 0, waited = 0, refused = 0;
+    size_t visited = 0, waited = 0, refused = 0;
     for (int round = 0; round < kSelectionRounds && !pending_.empty(); ++round) {
-        walked += pending_.size();
+        visited += pending_.size();
         const uint32_t round_stamp = ++stamp_;
         // Each selected one's plan and check after the rounds' before it: the taken ones stay
         // where their check put them until they are applied, and hold their neighbourhoods for
@@ -429,6 +429,8 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
         hold_for_taken();
+        // Each round selects in rank order: its taken ones follow the earlier rounds' in order.
+        const size_t round_taken = taken_.size();
         bool freed = false;
         for (size_t i = 0; i < selected_.size(); ++i) {
             if (checked_[first + i] != Check::Taken) {
@@ -438,11 +440,11 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
             }
             taken_.push_back({selected_[i], uint32_t(first + i)});
         }
+        std::inplace_merge(taken_.begin(), taken_.begin() + round_taken, taken_.end());
         if (!freed) break; // nothing blocked now is free in another round
         pend_blocked();
     }
-    std::sort(taken_.begin(), taken_.end());
-    count_pass(walked, waited, refused);
+    count_pass(visited, waited, refused);
 
     // Apply in key order, as far as the target: a direct run to any target stops at the first
     // operation that reaches it, so every run is a prefix of the one record.
