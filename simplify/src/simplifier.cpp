@@ -429,7 +429,7 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
         if (!walked || stopped.load(std::memory_order_relaxed))
             return stop = StopReason::Cancelled, true;
         hold_for_taken();
-        // Each round selects in rank order: its taken ones follow the earlier rounds' in order.
+        // A round selects in rank order: its taken ones are one ordered run, merged in below.
         const size_t round_taken = taken_.size();
         bool freed = false;
         for (size_t i = 0; i < selected_.size(); ++i) {
