@@ -1,6 +1,5 @@
-// The passes' counts (pass_counts.h), which the speed benchmark reports: every taken, waiting and
-// refused check and every visit of the selection walk is counted once, and they are the same on
-// any number of threads, as the passes are.
+// The passes' counts (pass_counts.h), which the speed benchmark reports: consistent with the run
+// they count, and the same on any number of threads, as the passes are.
 #include "pass_counts.h"
 #include "test_surfaces.h"
 
@@ -33,7 +32,7 @@ Counts counted_run(const Surface& in, Options o) {
 class PassCounts : public ::testing::TestWithParam<Config> {};
 INSTANTIATE_TEST_SUITE_P(All, PassCounts, ::testing::ValuesIn(all_configs()), config_name);
 
-TEST_P(PassCounts, CountEveryCheckOnceAndTheSameOnAnyThreadCount) {
+TEST_P(PassCounts, AreConsistentAndTheSameOnAnyThreadCount) {
     oneapi::tbb::global_control allow(oneapi::tbb::global_control::max_allowed_parallelism, 4);
     const Surface in = with_test_fields(torus(30, 12));
     Options o = options_for(GetParam());
