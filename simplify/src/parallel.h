@@ -10,7 +10,6 @@
 
 #include <oneapi/tbb/blocked_range.h>
 #include <oneapi/tbb/parallel_for.h>
-#include <oneapi/tbb/parallel_sort.h>
 #include <oneapi/tbb/task_arena.h>
 #include <oneapi/tbb/task_group.h>
 
@@ -71,16 +70,6 @@ public:
                 for (size_t i = begin; i < end; ++i) f(i);
             },
             grain);
-    }
-
-    // Sorts [begin, end) of distinct values, so that the result is the one order.
-    template <class It> void sort(It begin, It end) {
-#if defined(__SANITIZE_THREAD__)
-        std::sort(begin, end);
-        return;
-#endif
-        if (threads_ <= 1) return std::sort(begin, end);
-        arena_.execute([&] { oneapi::tbb::parallel_sort(begin, end); });
     }
 
     // produce() on the calling thread while every other thread runs consume(), then consume() on

@@ -121,6 +121,67 @@ template <class Vector> void sort_candidates(Vector& items, Vector& scratch, Par
     }
 }
 
+namespace sort_detail {
+
+inline constexpr int kPlaceBits = 8; // in-place digits: a bucket table that fits any stack
+inline constexpr size_t kPlaceValues = size_t(1) << kPlaceBits;
+inline constexpr size_t kFewToPlace = 64; // a comparison sort from here down
+
+// Sorts [first, last), whose keys agree above bit `top` (exclusive), by the key's next
+// kPlaceBits bits below `top`, in place (American flag sort), then each bucket on its own
+// (`each(begin, end, next_top)`, which this calls back for buckets that need it).
+template <class Each> void place_by_digit(Candidate* first, Candidate* last, int top, Each each) {
+    const int shift = std::max(0, top - kPlaceBits);
+    const uint64_t mask = (uint64_t(1) << (top - shift)) - 1;
+    auto bucket = [&](const Candidate& c) { return size_t((c.order() >> shift) & mask); };
+    size_t count[kPlaceValues] = {};
+    for (Candidate* c = first; c != last; ++c) ++count[bucket(*c)];
+    size_t head[kPlaceValues], tail[kPlaceValues], sum = 0;
+    for (size_t b = 0; b < kPlaceValues; ++b) head[b] = sum, sum += count[b], tail[b] = sum;
+    for (size_t b = 0; b < kPlaceValues; ++b)
+        while (head[b] < tail[b]) {
+            Candidate c = first[head[b]];
+            size_t to = bucket(c);
+            while (to != b) { // follow the cycle until an item for bucket b comes back
+                std::swap(c, first[head[to]++]);
+                to = bucket(c);
+            }
+            first[head[b]++] = c;
+        }
+    for (size_t b = 0, begin = 0; b < kPlaceValues; begin += count[b++])
+        if (count[b] > 1) each(first + begin, first + begin + count[b], shift);
+}
+
+// Sorts [first, last), whose keys agree above bit `top`, serially.
+inline void place_sort(Candidate* first, Candidate* last, int top) {
+    if (size_t(last - first) <= kFewToPlace || top == 0) return std::sort(first, last);
+    place_by_digit(first, last, top, place_sort);
+}
+
+} // namespace sort_detail
+
+// Sorts `items` by key, then by id, in place: an MSD radix sort (American flag) over the key's
+// bits from the highest on which two items differ, each bucket of a few items, or of one key,
+// sorted by comparison. The buckets of the first digit are sorted on the threads. The result is
+// the one total order, whatever the thread count. For many items: no second array of their size.
+template <class Vector> void sort_candidates_in_place(Vector& items, Parallel& parallel) {
+    if (items.size() <= sort_detail::kFewToPlace) return std::sort(items.begin(), items.end());
+    uint64_t any = 0, all = ~uint64_t(0);
+    for (const Candidate& c : items) any |= c.order(), all &= c.order();
+    const uint64_t differ = any ^ all;
+    const int top = differ == 0 ? 0 : 64 - __builtin_clzll(differ);
+    Candidate* first = items.data();
+    if (top == 0) return std::sort(first, first + items.size()); // one key: by id
+    std::vector<std::pair<Candidate*, Candidate*>> buckets;
+    sort_detail::place_by_digit(
+        first, first + items.size(), top,
+        [&](Candidate* b, Candidate* e, int) { buckets.emplace_back(b, e); });
+    const int next = std::max(0, top - sort_detail::kPlaceBits);
+    parallel.for_each(
+        buckets.size(),
+        [&](size_t k) { sort_detail::place_sort(buckets[k].first, buckets[k].second, next); }, 1);
+}
+
 // Merges `from` (sorted) into `into` (sorted), in place from the back: the one sorted order of
 // both. `from` is usually much the shorter: the place of each of its items is found by a search
 // galloping back from the last one's, and the items of `into` between moved as one block.

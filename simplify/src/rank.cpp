@@ -243,9 +243,10 @@ bool Simplifier::rank_candidates(size_t& share) {
     // Many at once (the first ranking: all of them) are sorted in place, which needs no second
     // array of their size; fewer by the counting passes, in a scratch space of their size.
     if (fresh_.size() > ranked_.size() / kSortedInPlace)
-        parallel_.sort(fresh_.begin(), fresh_.end());
+        detail::sort_candidates_in_place(fresh_, parallel_);
     else
         detail::sort_candidates(fresh_, scratch_, parallel_);
+    if (parallel_.stopped()) return false;
     if (ranked_.empty()) // the first ranking: no merge, and no second array of every candidate
         ranked_.swap(fresh_);
     else

@@ -1,5 +1,5 @@
-// pass_order.h (internal): candidates sorted by key, then id, by counting passes, and merged into
-// a sorted order; both must give what a comparison sort of all candidates gives.
+// pass_order.h (internal): candidates sorted by key, then id, by counting passes or in place, and
+// merged into a sorted order; each must give what a comparison sort of all candidates gives.
 #include "pass_order.h"
 
 #include <gtest/gtest.h>
@@ -28,24 +28,47 @@ bool lighter(const Candidate& a, const Candidate& b) {
     return a.order() != b.order() ? a.order() < b.order() : a.id < b.id;
 }
 
+// Sorts `got` with counting passes (in_place false) or in place, on `threads` threads, and
+// expects the comparison sort's order of it.
+void expect_sorted_as_compared(std::vector<Candidate> got, bool in_place, int threads) {
+    std::vector<Candidate> want = got;
+    std::sort(want.begin(), want.end(), lighter);
+    std::vector<Candidate> scratch;
+    Parallel parallel(threads);
+    if (in_place)
+        sort_candidates_in_place(got, parallel);
+    else
+        sort_candidates(got, scratch, parallel);
+    ASSERT_EQ(got.size(), want.size());
+    for (size_t i = 0; i < got.size(); ++i) {
+        ASSERT_EQ(got[i].id, want[i].id) << (in_place ? "in place, " : "") << threads
+                                         << " threads, n " << got.size() << ", at " << i;
+        ASSERT_EQ(got[i].order(), want[i].order()) << "n " << got.size() << ", at " << i;
+    }
+}
+
 TEST(PassOrder, CountingSortEqualsAComparisonSort) {
     // Few candidates (comparison sort), many (counting passes), few and many distinct keys, and
     // the counting passes in one piece or in several on threads.
     for (int threads : {1, 3})
         for (size_t n : {100u, 5000u, 200000u})
-            for (uint32_t distinct : {3u, 1000u, 1u << 30}) {
-                const std::vector<Candidate> input = random_candidates(n, distinct, uint32_t(n));
-                std::vector<Candidate> want = input;
-                std::sort(want.begin(), want.end(), lighter);
-                std::vector<Candidate> got = input, scratch;
-                Parallel parallel(threads);
-                sort_candidates(got, scratch, parallel);
-                ASSERT_EQ(got.size(), n);
-                for (size_t i = 0; i < n; ++i) {
-                    ASSERT_EQ(got[i].id, want[i].id)
-                        << threads << " threads, n " << n << ", at " << i;
-                    ASSERT_EQ(got[i].order(), want[i].order()) << "n " << n << ", at " << i;
-                }
+            for (uint32_t distinct : {3u, 1000u, 1u << 30})
+                expect_sorted_as_compared(random_candidates(n, distinct, uint32_t(n)), false,
+                                          threads);
+}
+
+TEST(PassOrder, InPlaceSortEqualsAComparisonSort) {
+    // Few candidates (comparison sort), many (buckets by digit, then by comparison), one key
+    // for all (by id alone), few and many distinct keys, in id order or shuffled, the first
+    // digit's buckets sorted on one thread or on several.
+    std::mt19937 random(5);
+    for (int threads : {1, 3})
+        for (size_t n : {50u, 5000u, 200000u})
+            for (uint32_t distinct : {1u, 3u, 1000u, 1u << 30}) {
+                std::vector<Candidate> c = random_candidates(n, distinct, uint32_t(n) + distinct);
+                expect_sorted_as_compared(c, true, threads);
+                std::shuffle(c.begin(), c.end(), random);
+                expect_sorted_as_compared(c, true, threads);
             }
 }
 
