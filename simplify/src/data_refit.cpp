@@ -149,29 +149,55 @@ std::vector<Landing> land_backward(const RefitInput& input, const Surface& level
 }
 
 // The samples landed on each level triangle, in input order: those of triangle t are
-// sample[begin[t] .. begin[t + 1]).
+// [begin[t], begin[t + 1]), each with what the fits read of it side by side (its landing's
+// weights, its input position and its fitted components' input values), so that a fit visiting a
+// triangle's samples from each of its corners reads them in a row, not from three arrays in
+// input order.
 struct SamplesByTriangle {
-    std::vector<uint32_t> begin, sample;
-    SamplesByTriangle(const std::vector<Landing>& forward, size_t triangles)
-        : begin(triangles + 1, 0) {
+    std::vector<uint32_t> begin;
+    std::vector<std::array<double, 3>> weights;
+    std::vector<float> position, value; // 3 and `components` per sample
+    size_t components = 0;
+    SamplesByTriangle(const RefitInput& input, const std::vector<Landing>& forward,
+                      size_t triangles, Parallel& parallel)
+        : begin(triangles + 1, 0), components(input.components.size()) {
         for (const Landing& l : forward)
             if (l.triangle != kNoOwner) ++begin[l.triangle + 1];
         prefix_sum(begin);
-        sample.resize(begin[triangles]);
+        std::vector<uint32_t> sample(begin[triangles]);
         std::vector<uint32_t> fill(begin.begin(), begin.end() - 1);
         for (size_t i = 0; i < forward.size(); ++i)
             if (forward[i].triangle != kNoOwner) sample[fill[forward[i].triangle]++] = uint32_t(i);
+        const Surface& in = *input.surface;
+        weights.resize(sample.size()), position.resize(3 * sample.size());
+        value.resize(components * sample.size());
+        parallel.for_each(sample.size(), [&](size_t l) {
+            const uint32_t i = sample[l];
+            weights[l] = forward[i].weights;
+            std::copy_n(&in.positions[3 * size_t(i)], 3, &position[3 * l]);
+            for (size_t j = 0; j < components; ++j) {
+                const Field& f = in.fields[input.components[j].first];
+                value[components * l + j] =
+                    f.values[size_t(i) * size_t(f.components) + input.components[j].second];
+            }
+        });
     }
+    Vec3 position_of(size_t l) const { return point_of(position, uint32_t(l)); }
+    const float* values_of(size_t l) const { return &value[components * l]; }
 };
 
 } // namespace
 
-double landed_sample_error(const RefitInput& input, const Surface& level, uint32_t i,
-                           const std::array<uint32_t, 3>& corner, const std::array<Vec3, 3>& at,
-                           const std::array<double, 3>& w) {
-    const Surface& in = *input.surface;
+namespace {
+
+// landed_sample_error for a sample at input position `p` with input values `values` (one per
+// fitted component, in order).
+template <class Value>
+double landed_error_of(const RefitInput& input, const Surface& level, const Vec3& p, Value values,
+                       const std::array<uint32_t, 3>& corner, const std::array<Vec3, 3>& at,
+                       const std::array<double, 3>& w) {
     const Vec3 x = add(add(scale(at[0], w[0]), scale(at[1], w[1])), scale(at[2], w[2]));
-    const Vec3 d = sub(x, point_of(in.positions, i));
+    const Vec3 d = sub(x, p);
     double e = input.distance_weight * dot(d, d);
     for (size_t j = 0; j < input.components.size(); ++j) {
         const auto [field, component] = input.components[j];
@@ -179,11 +205,23 @@ double landed_sample_error(const RefitInput& input, const Surface& level, uint32
         const size_t nc = size_t(f.components);
         double value = 0;
         for (int c = 0; c < 3; ++c) value += w[c] * double(f.values[nc * corner[c] + component]);
-        const Field& g = in.fields[field];
-        const double dv = value - double(g.values[size_t(g.components) * i + component]);
+        const double dv = value - double(values(j));
         e += input.data_weight[j] * dv * dv;
     }
     return e;
+}
+
+} // namespace
+
+double landed_sample_error(const RefitInput& input, const Surface& level, uint32_t i,
+                           const std::array<uint32_t, 3>& corner, const std::array<Vec3, 3>& at,
+                           const std::array<double, 3>& w) {
+    const Surface& in = *input.surface;
+    auto values = [&](size_t j) {
+        const Field& g = in.fields[input.components[j].first];
+        return g.values[size_t(g.components) * i + input.components[j].second];
+    };
+    return landed_error_of(input, level, point_of(in.positions, i), values, corner, at, w);
 }
 
 namespace {
@@ -194,7 +232,7 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
     const Surface& in = *input.surface;
     const std::vector<uint32_t>& in_triangles = *input.triangles;
     const size_t n = level.vertex_count(), nt = level.triangle_count();
-    const SamplesByTriangle on(forward, nt);
+    const SamplesByTriangle on(input, forward, nt, parallel);
     const std::vector<float> before = level.positions;
     auto corner = [&](uint32_t t, int c) { return level.triangles[3 * size_t(t) + size_t(c)]; };
     auto normal_at = [&](const std::vector<float>& at, uint32_t t) {
@@ -210,8 +248,8 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
         const double la = norm(after), lw = norm(was);
         return la > 1e-6 * lw && dot(after, was) >= input.flat_cos * la * lw;
     };
-    // Sample i's joint error at the point of triangle t with weights w, t's corner k at x.
-    auto sample_error = [&](uint32_t i, uint32_t t, const std::array<double, 3>& w, uint32_t k,
+    // Sample l's joint error at the point of triangle t with weights w, t's corner k at x.
+    auto sample_error = [&](uint32_t l, uint32_t t, const std::array<double, 3>& w, uint32_t k,
                             const Vec3& x) {
         std::array<uint32_t, 3> v;
         std::array<Vec3, 3> at;
@@ -219,7 +257,9 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
             v[size_t(c)] = corner(t, c);
             at[size_t(c)] = v[size_t(c)] == k ? x : point_of(level.positions, v[size_t(c)]);
         }
-        return landed_sample_error(input, level, i, v, at, w);
+        const float* values = on.values_of(l);
+        return landed_error_of(
+            input, level, on.position_of(l), [values](size_t j) { return values[j]; }, v, at, w);
     };
     // The joint error of the samples on k's star where they are landed now.
     auto landed_error = [&](uint32_t k) {
@@ -227,8 +267,7 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
         for (uint32_t s = stars.begin[k]; s < stars.begin[k + 1]; ++s)
             for (uint32_t l = on.begin[stars.triangle[s]]; l < on.begin[stars.triangle[s] + 1];
                  ++l) {
-                const uint32_t i = on.sample[l];
-                total += sample_error(i, forward[i].triangle, forward[i].weights, kNoOwner, {});
+                total += sample_error(l, stars.triangle[s], on.weights[l], kNoOwner, {});
             }
         return total;
     };
@@ -249,8 +288,7 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
             for (uint32_t l = on.begin[stars.triangle[s]]; l < on.begin[stars.triangle[s] + 1];
                  ++l) {
                 if (total >= bound) return total;
-                const uint32_t i = on.sample[l];
-                const Vec3 p = point_of(in.positions, i);
+                const Vec3 p = on.position_of(l);
                 double nearest = std::numeric_limits<double>::infinity();
                 uint32_t best = kNoOwner;
                 std::array<double, 3> weights{};
@@ -261,7 +299,7 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
                     if (dot(d, d) < nearest)
                         nearest = dot(d, d), best = stars.triangle[r], weights = cp.weights;
                 }
-                total += sample_error(i, best, weights, k, x);
+                total += sample_error(l, best, weights, k, x);
             }
         return total;
     };
@@ -280,10 +318,9 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
             const uint32_t t = stars.triangle[s];
             const int at = corner(t, 0) == k ? 0 : corner(t, 1) == k ? 1 : 2;
             for (uint32_t l = on.begin[t]; l < on.begin[t + 1]; ++l) {
-                const uint32_t i = on.sample[l];
-                const std::array<double, 3>& w = forward[i].weights;
+                const std::array<double, 3>& w = on.weights[l];
                 if (w[size_t(at)] == 0) continue;
-                Vec3 rest = point_of(in.positions, i);
+                Vec3 rest = on.position_of(l);
                 for (int c = 0; c < 3; ++c)
                     if (c != at)
                         rest =
@@ -335,8 +372,7 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
     const size_t nc = input.components.size();
     const std::vector<uint32_t>& star_begin = stars.begin;
     const std::vector<uint32_t>& star = stars.triangle;
-    const SamplesByTriangle on(forward, nt);
-    const std::vector<uint32_t>&landed_begin = on.begin, &landed = on.sample;
+    const SamplesByTriangle on(input, forward, nt, parallel);
 
     // The unknowns: one per free vertex.
     std::vector<uint32_t> unknown(n, kNoOwner), vertex_of;
@@ -396,13 +432,13 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
             const int at = corner[0] == k ? 0 : corner[1] == k ? 1 : 2;
             size_t slots[3];
             for (int c = 0; c < 3; ++c) slots[c] = slot(corner[c]);
-            for (uint32_t l = landed_begin[t]; l < landed_begin[t + 1]; ++l) {
-                const uint32_t i = landed[l];
-                const std::array<double, 3>& w = forward[i].weights;
+            for (uint32_t l = on.begin[t]; l < on.begin[t + 1]; ++l) {
+                const std::array<double, 3>& w = on.weights[l];
                 if (w[at] == 0) continue;
                 for (int c = 0; c < 3; ++c) weight_sum[slots[c]] += w[at] * w[c];
+                const float* values = on.values_of(l);
                 for (size_t j = 0; j < nc; ++j) {
-                    const double f = input_value(i, j);
+                    const double f = double(values[j]);
                     b[j] += w[at] * f;
                     extend(j, f);
                 }
