@@ -421,6 +421,9 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
                 m.data_of(n)[quadrics_.offset[j]] = made[3 + quadrics_.offset[j]];
     if (quadric_terms_ || least_error_) quadrics_.add(n, b, 1.0); // n is a's slot
     refusal_near_[n] |= refusal_near_[b];
+    // n is on a boundary if an end was: until it is classified (refresh_changed), its kind says
+    // which for reset_out.
+    const bool interior = m.kind[a] == VertexKind::Free && m.kind[b] == VertexKind::Free;
     m.kind[a] = m.kind[b] = VertexKind::Dead;
     m.out[a] = m.out[b] = kNone;
     for (size_t i = 0; i < count; ++i) m.update_angles(leaving[i] / 3);
@@ -428,7 +431,7 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
     const double lr = norm(ref);
     for (int c = 0; c < 3; ++c)
         m.reference_of(n)[c] = lr > 0 ? float(ref[c] / lr) : m.reference_of(a)[c];
-    m.kind[n] = VertexKind::Free;
+    m.kind[n] = interior ? VertexKind::Free : VertexKind::Corner;
     if (!m.locked.empty()) m.locked[n] = m.locked[a] | m.locked[b]; // placed on the locked end
     m.reset_out(n, leaving[0]);
     // An apex that another collapse of the pass shares waits for them all (refresh_rings): its

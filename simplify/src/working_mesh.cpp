@@ -209,6 +209,7 @@ void WorkingMesh::update_angles(uint32_t t) {
 }
 
 void WorkingMesh::reset_out(uint32_t v, uint32_t h) {
+    if (kind[v] == VertexKind::Free) return void(out[v] = h);
     const uint32_t start = h;
     for (;;) {
         const uint32_t t = twin[h];

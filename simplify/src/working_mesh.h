@@ -236,7 +236,9 @@ struct WorkingMesh {
     // Recomputes the three corner angles of slot t (after its corners moved or changed).
     void update_angles(uint32_t t);
     // Points `out[v]` at the fan's first half-edge (the one without a twin, if any), starting
-    // the search at outgoing half-edge `h`.
+    // the search at outgoing half-edge `h`. A Free vertex is on no boundary, which no operation
+    // changes: its fan has no first half-edge, and `h` is kept without a walk (kind[v] must say
+    // whether v is on a boundary).
     void reset_out(uint32_t v, uint32_t h);
     // Recomputes the kind and valence of v from its fan, line edges and their straightness. The
     // same walk calls visit(u, closing) for every neighbour u in ring order (closing: u only
