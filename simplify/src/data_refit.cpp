@@ -186,14 +186,10 @@ struct SamplesByTriangle {
     const float* values_of(size_t l) const { return &value[components * l]; }
 };
 
-} // namespace
-
-namespace {
-
-// landed_sample_error for a sample at input position `p` with input values `values` (one per
-// fitted component, in order).
-template <class Value>
-double landed_error_of(const RefitInput& input, const Surface& level, const Vec3& p, Value values,
+// landed_sample_error for a sample at input position `p` whose input value of fitted component j
+// is values(j).
+template <class Values>
+double landed_error_of(const RefitInput& input, const Surface& level, const Vec3& p, Values values,
                        const std::array<uint32_t, 3>& corner, const std::array<Vec3, 3>& at,
                        const std::array<double, 3>& w) {
     const Vec3 x = add(add(scale(at[0], w[0]), scale(at[1], w[1])), scale(at[2], w[2]));
