@@ -246,7 +246,6 @@ bool Simplifier::rank_candidates(size_t& share) {
         detail::sort_candidates_in_place(fresh_, parallel_);
     else
         detail::sort_candidates(fresh_, scratch_, parallel_);
-    if (parallel_.stopped()) return false;
     if (ranked_.empty()) // the first ranking: no merge, and no second array of every candidate
         ranked_.swap(fresh_);
     else
