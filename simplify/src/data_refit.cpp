@@ -398,7 +398,8 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
         std::vector<double> weight_sum;
     };
     std::vector<uint32_t> row_begin(nu + 1, 0), column;
-    std::vector<double> value, rhs(nu * nc, 0), low(nu * nc), high(nu * nc);
+    std::vector<double> value, rhs(nu * nc, 0);
+    std::vector<uint8_t> sampled(nu, 0); // whether any sample weighs in on the unknown
     auto make_row = [&](size_t u, RowBlock& out) {
         std::vector<uint32_t>& neighbours = out.neighbours;
         std::vector<double>& weight_sum = out.weight_sum;
@@ -415,13 +416,6 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
                           neighbours.begin());
         };
         double* b = &rhs[u * nc];
-        double* lo = &low[u * nc];
-        double* hi = &high[u * nc];
-        std::fill_n(lo, nc, std::numeric_limits<double>::infinity());
-        std::fill_n(hi, nc, -std::numeric_limits<double>::infinity());
-        auto extend = [&](size_t j, double x) {
-            lo[j] = std::min(lo[j], x), hi[j] = std::max(hi[j], x);
-        };
         for (uint32_t s = star_begin[k]; s < star_begin[k + 1]; ++s) {
             const uint32_t t = star[s];
             const uint32_t* corner = &level.triangles[3 * size_t(t)];
@@ -431,26 +425,23 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
             for (uint32_t l = on.begin[t]; l < on.begin[t + 1]; ++l) {
                 const std::array<double, 3>& w = on.weights[l];
                 if (w[at] == 0) continue;
+                sampled[u] = 1;
                 for (int c = 0; c < 3; ++c) weight_sum[slots[c]] += w[at] * w[c];
                 const float* values = on.values_of(l);
-                for (size_t j = 0; j < nc; ++j) {
-                    const double f = double(values[j]);
-                    b[j] += w[at] * f;
-                    extend(j, f);
-                }
+                for (size_t j = 0; j < nc; ++j) b[j] += w[at] * double(values[j]);
             }
         }
         if (backward[k].triangle != kNoOwner) {
+            sampled[u] = 1;
             weight_sum[slot(k)] += 1;
             const uint32_t* corner = &in_triangles[3 * size_t(backward[k].triangle)];
             for (size_t j = 0; j < nc; ++j) {
                 double g = 0;
                 for (int c = 0; c < 3; ++c) g += backward[k].weights[c] * input_value(corner[c], j);
                 b[j] += g;
-                extend(j, g);
             }
         }
-        // A vertex no sample reaches keeps its value (and is not written: its range is empty).
+        // A vertex no sample reaches keeps its value (and is not written: see `sampled`).
         if (weight_sum[slot(k)] == 0) {
             weight_sum[slot(k)] = 1;
             for (size_t j = 0; j < nc; ++j) b[j] = double(level_value(k, j));
@@ -487,16 +478,22 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
         value.insert(value.end(), block.value.begin(), block.value.end());
     }
 
+    // A fitted value may lie beyond the samples around its point (a peak between the level's
+    // vertices needs one that does), but never beyond the range the component spans over the
+    // input: a level shows no value the data does not reach.
     std::vector<double> b(nu), x(nu);
     for (size_t j = 0; j < nc; ++j) {
+        double data_low = std::numeric_limits<double>::infinity(), data_high = -data_low;
+        for (size_t v = 0; v < input.vertices; ++v)
+            if (input.owner[v] != kNoOwner)
+                data_low = std::min(data_low, input_value(uint32_t(v), j)),
+                data_high = std::max(data_high, input_value(uint32_t(v), j));
         for (size_t u = 0; u < nu; ++u) b[u] = rhs[u * nc + j], x[u] = level_value(vertex_of[u], j);
         solve(row_begin, column, value, b, x, parallel);
         if (parallel.stopped()) return;
-        for (size_t u = 0; u < nu; ++u) {
-            if (!(low[u * nc + j] <= high[u * nc + j])) continue; // no sample: keeps its value
-            level_value(vertex_of[u], j) =
-                float(std::clamp(x[u], low[u * nc + j], high[u * nc + j]));
-        }
+        for (size_t u = 0; u < nu; ++u)
+            if (sampled[u]) // one that no sample reaches keeps its value
+                level_value(vertex_of[u], j) = float(std::clamp(x[u], data_low, data_high));
     }
 }
 

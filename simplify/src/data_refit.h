@@ -87,11 +87,13 @@ double landed_sample_error(const RefitInput& input, const Surface& level, uint32
 // too far, its corners go back; then the samples land again. Then their data, so that over both
 // sets of samples at once the squared data differences are least: each input vertex against the
 // level's data interpolated at its landing, each level vertex against the input's data interpolated
-// at its own. Each value is then clamped to the range of the samples it was fitted to, so it never
-// overshoots the data it stands for. Then the level's edges are flipped where that lowers the
-// samples' error (flip_edges_for_data), and if any was, the data is fitted once more. The input's
-// own vertices and locked ones keep their positions and data. The same bytes for any number of
-// threads. Once a watch on `parallel` stops (stage_watch.h), the fit ends part-way.
+// at its own. Each value is then clamped to the range the component spans over the input, so a
+// level shows no value the data does not reach (within it, a value may lie beyond the samples
+// around its point: a peak between the level's vertices needs that). Then the level's edges are
+// flipped where that lowers the samples' error (flip_edges_for_data), and if any was, the data is
+// fitted once more. The input's own vertices and locked ones keep their positions and data. The
+// same bytes for any number of threads. Once a watch on `parallel` stops (stage_watch.h), the fit
+// ends part-way.
 void refit_data(const RefitInput& input, Surface& level, Parallel& parallel);
 
 } // namespace ddsimp::detail

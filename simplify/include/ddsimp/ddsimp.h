@@ -20,7 +20,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 32;
+inline constexpr int algorithm_version = 33;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -152,8 +152,8 @@ enum class DataPlacement {
     // (Options::locked) keeps its data. Once the run is over, those components of the points it
     // made are fitted again over the whole level: the least-squares fit of the level's
     // interpolated data to the input's, both ways (each input vertex against the level, each
-    // level vertex against the input), clamped to the range of the values each point is fitted
-    // to; the input's own vertices and locked points keep theirs (docs/algorithm.md, "Edge
+    // level vertex against the input), clamped to the range each component spans over the
+    // input; the input's own vertices and locked points keep theirs (docs/algorithm.md, "Edge
     // collapse"). Needs the error quadrics (Terms::ErrorQuadrics or Placement::LeastError) and
     // alpha < 1; otherwise as Interpolated.
     LeastError,
