@@ -184,6 +184,8 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
         group[fill[low]++] = uint64_t(high) << 32 | h;
     }
     detail::Array<uint32_t> across(halfedges, kNone);
+    // Whether two triangles run an edge the same way: only then is there anything to flip.
+    std::atomic<bool> opposed{false};
     parallel.for_each(nv, [&](size_t v) { // each group on its own
         const auto begin = group.begin() + first[v], end = group.begin() + first[v + 1];
         std::sort(begin, end); // by the higher vertex: each edge's half-edges together
@@ -193,10 +195,14 @@ std::vector<uint8_t> orientation_flips(const std::vector<uint32_t>& triangles, s
             if (j - i == 2) {
                 const uint32_t h0 = uint32_t(i[0]), h1 = uint32_t(i[1]);
                 across[h0] = h1 / 3, across[h1] = h0 / 3;
+                if ((triangles[h0] == v) == (triangles[h1] == v))
+                    opposed.store(true, std::memory_order_relaxed);
             }
             i = j;
         }
     });
+    // Consistent already (as most surfaces are): the walk below would flip nothing.
+    if (!opposed.load(std::memory_order_relaxed)) return std::vector<uint8_t>(nt, 1);
 
     // Does triangle t, not flipped, run the edge a -> b?
     auto runs = [&](uint32_t t, uint32_t a, uint32_t b) {

@@ -48,9 +48,11 @@ TEST(DataRefit, MovesTheMadePointsOntoTheInput) {
         EXPECT_LT(two_way_data_rms(in, fitted), two_way_data_rms(in, recorded));
         EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(fitted)));
         const std::vector<uint32_t> ids = record.indexed_triangles(operations);
-        for (size_t c = 0; c < ids.size(); ++c)
-            if (ids[c] < in.vertex_count())
+        for (size_t c = 0; c < ids.size(); ++c) {
+            if (ids[c] < in.vertex_count()) {
                 EXPECT_EQ(position(fitted, recorded.triangles[c]), position(in, ids[c]));
+            }
+        }
     }
 }
 
