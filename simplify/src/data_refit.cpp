@@ -360,7 +360,24 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
 }
 
 // The least-squares data of the free vertices over both sets of samples (see refit_data).
-void fit_values(const RefitInput& input, const Stars& stars, const std::vector<Landing>& forward,
+// Per fitted component, the range it spans over the input's vertices that triangles use.
+std::vector<std::pair<double, double>> input_ranges(const RefitInput& input) {
+    std::vector<std::pair<double, double>> range;
+    for (const auto& [field, component] : input.components) {
+        const Field& f = input.surface->fields[field];
+        double low = std::numeric_limits<double>::infinity(), high = -low;
+        for (size_t v = 0; v < input.vertices; ++v)
+            if (input.owner[v] != kNoOwner) {
+                const double x = double(f.values[v * size_t(f.components) + component]);
+                low = std::min(low, x), high = std::max(high, x);
+            }
+        range.emplace_back(low, high);
+    }
+    return range;
+}
+
+void fit_values(const RefitInput& input, const std::vector<std::pair<double, double>>& range,
+                const Stars& stars, const std::vector<Landing>& forward,
                 const std::vector<Landing>& backward, Surface& level, Parallel& parallel) {
     const Surface& in = *input.surface;
     const std::vector<uint32_t>& in_triangles = *input.triangles;
@@ -483,17 +500,13 @@ void fit_values(const RefitInput& input, const Stars& stars, const std::vector<L
     // input: a level shows no value the data does not reach.
     std::vector<double> b(nu), x(nu);
     for (size_t j = 0; j < nc; ++j) {
-        double data_low = std::numeric_limits<double>::infinity(), data_high = -data_low;
-        for (size_t v = 0; v < input.vertices; ++v)
-            if (input.owner[v] != kNoOwner)
-                data_low = std::min(data_low, input_value(uint32_t(v), j)),
-                data_high = std::max(data_high, input_value(uint32_t(v), j));
         for (size_t u = 0; u < nu; ++u) b[u] = rhs[u * nc + j], x[u] = level_value(vertex_of[u], j);
         solve(row_begin, column, value, b, x, parallel);
         if (parallel.stopped()) return;
         for (size_t u = 0; u < nu; ++u)
             if (sampled[u]) // one that no sample reaches keeps its value
-                level_value(vertex_of[u], j) = float(std::clamp(x[u], data_low, data_high));
+                level_value(vertex_of[u], j) =
+                    float(std::clamp(x[u], range[j].first, range[j].second));
     }
 }
 
@@ -518,7 +531,8 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     backward = land_backward(input, level, parallel);
     if (parallel.stopped()) return;
     parallel.reach(0.7);
-    fit_values(input, stars, forward, backward, level, parallel);
+    const std::vector<std::pair<double, double>> range = input_ranges(input);
+    fit_values(input, range, stars, forward, backward, level, parallel);
     if (parallel.stopped()) return;
     parallel.reach(0.8);
     if (flip_edges_for_data(input, forward, level, parallel).empty()) return;
@@ -526,7 +540,7 @@ void refit_data(const RefitInput& input, Surface& level, Parallel& parallel) {
     // The flips moved the samples on each flipped pair of triangles to the nearer new one; the
     // other samples lie where they did, as the flips only join nearly coplanar triangles.
     stars = Stars(level);
-    fit_values(input, stars, forward, backward, level, parallel);
+    fit_values(input, range, stars, forward, backward, level, parallel);
 }
 
 } // namespace ddsimp::detail
