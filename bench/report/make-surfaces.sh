@@ -6,14 +6,15 @@
 # scalar and one 3-vector field: the attributes vtkQuadricDecimation's error metric can weigh.
 # Every surface is repaired by ddsimp::validate once here, so all simplifiers get the same input.
 #
-# Usage: bench/report/make-surfaces.sh BUILD_DIR OUT_DIR [--quick | --scaling]
-#   --quick    only the two small surfaces of the smoke test
-#   --scaling  the carotid isosurfaces of growing size for the time-against-size plot
+# Usage: bench/report/make-surfaces.sh BUILD_DIR OUT_DIR [--quick | --scaling | --held-out]
+#   --quick     only the two small surfaces of the smoke test
+#   --scaling   the carotid isosurfaces of growing size for the time-against-size plot
+#   --held-out  isosurfaces of the report's volumes at other values (held_out.py)
 # Files that exist are kept (delete them to remake).
 set -euo pipefail
 
 if (($# < 2)); then
-    echo "usage: make-surfaces.sh BUILD_DIR OUT_DIR [--quick | --scaling]" >&2
+    echo "usage: make-surfaces.sh BUILD_DIR OUT_DIR [--quick | --scaling | --held-out]" >&2
     exit 2
 fi
 build=$1 out=$2 mode=${3:-full}
@@ -84,6 +85,20 @@ full)
     iso scale-carotid-r2 carotid.vtk --field scalars --value 127 --resample 2 --carry vectors
     iso scale-carotid-r3 carotid.vtk --field scalars --value 127 --resample 3 --carry vectors
     iso scale-carotid-r6 carotid.vtk --field scalars --value 127 --resample 6 --carry vectors
+    ;;
+--held-out)
+    # The report's volumes at other values (held_out.py): what a change tuned to the report's
+    # own surfaces would miss.
+    iso disk-temp350 disk_out_ref.ex2 --field Temp --value 350 --carry Pres,V
+    iso disk-temp500 disk_out_ref.ex2 --field Temp --value 500 --carry Pres,V
+    iso combustor-density30 combxyz.bin --q "$shared/volumes/combq.bin" --function 153 \
+        --field Density --value 0.30 --carry VelocityMagnitude,Momentum
+    iso bluntfin-density11 bluntfinxyz.bin --q "$shared/volumes/bluntfinq.bin" --function 110 \
+        --field Density --value 1.1 --carry Pressure,Momentum
+    iso kitchen-h20600 kitchen.vtk --field h1 --value 20600 --carry p1,velocity
+    iso fire-t400 fire_ug.vtu --field t --value 400 --carry mfrac,uvw
+    iso carotid-150 carotid.vtk --field scalars --value 150 --carry vectors
+    iso cth-armor03 cth.vtr --field "Volume Fraction for Armor Plate" --value 0.3 --carry Pressure
     ;;
 *)
     echo "make-surfaces.sh: unknown mode $mode" >&2
