@@ -364,15 +364,19 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     size_t share = 0;
     if (!rank_candidates(share)) return stop = StopReason::Cancelled, true;
     if (share == 0) {
-        // Edge collapse's last resort: a triangle need only face along its corners' reference
-        // normals together, and every refused edge is tried again.
-        if (!collapse || relaxed_facing_) return stop = StopReason::NothingRemovable, true;
+        // The last resort: a new triangle need only face along its corners' reference normals
+        // together, and every refused edge or vertex is tried again.
+        if (relaxed_facing_) return stop = StopReason::NothingRemovable, true;
         relaxed_facing_ = true;
-        for (uint32_t g = 0; g < fail_.size(); ++g)
-            if (fail_[g] != 0 && mesh_.origin[g] != kNone) mark_stale(edge_id(g));
+        for (uint32_t id = 0; id < fail_.size(); ++id)
+            if (fail_[id] != 0 &&
+                (collapse ? mesh_.origin[id] != kNone : mesh_.kind[id] != detail::VertexKind::Dead))
+                mark_stale(collapse ? edge_id(id) : id);
         std::fill(fail_.begin(), fail_.end(), 0);
-        std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
-        std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
+        if (collapse) {
+            std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
+            std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
+        }
         return false;
     }
     if (ranked_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;

@@ -517,9 +517,16 @@ private:
     detail::Array<uint8_t> fail_at_;
     uint8_t fold_hint(uint32_t h, uint32_t g) const;         // g: the folding half-edge, or kNone
     uint32_t fold_from_hint(uint32_t h, uint8_t hint) const; // kNone if it names none
-    // Edge collapse, once nothing else is removable: keeps_facing checks a triangle against the
-    // sum of its corners' reference normals instead of each (see run()).
+    // Once nothing else is removable: a new or moved triangle is checked against the sum of its
+    // corners' reference normals instead of each (see run_pass, keeps_facing, faces_the_surface).
     bool relaxed_facing_ = false;
+    // Whether a vertex removal's new triangle with normal n faces the way of the surface at its
+    // corners, whose reference normals are ra, rb, rc: at each, or, once relaxed, on their sum.
+    bool faces_the_surface(const detail::Vec3& n, const detail::Vec3& ra, const detail::Vec3& rb,
+                           const detail::Vec3& rc) const {
+        return relaxed_facing_ ? detail::dot(n, detail::add(ra, detail::add(rb, rc))) > 0
+                               : detail::WorkingMesh::faces_along_normals(n, ra, rb, rc);
+    }
     // The heaviest key of the pass's share. A planned collapse whose retraction (see
     // retraction_scale), or a planned removal whose error, makes it heavier than this and than
     // its own key waits for the next pass, which ranks it with the heavier key.

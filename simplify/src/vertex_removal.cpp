@@ -402,9 +402,10 @@ bool Simplifier::planar_triangulation(RemovalPlan& plan, const double (*xyh)[3],
             const Vec3& old = plan.star_normal[c[k]];
             if (dot(tn, old) < turn_cos * norm(tn) * norm(old)) return false;
         }
-        if (dot(tn, axis) <= 0 ||
-            (plan.star_faces_along &&
-             !mesh_.faces_along(tn, plan.ring[c[0]], plan.ring[c[1]], plan.ring[c[2]])))
+        if (dot(tn, axis) <= 0 || (plan.star_faces_along &&
+                                   !faces_the_surface(tn, mesh_.reference_normal(plan.ring[c[0]]),
+                                                      mesh_.reference_normal(plan.ring[c[1]]),
+                                                      mesh_.reference_normal(plan.ring[c[2]]))))
             return false;
     }
     return true;
@@ -468,8 +469,8 @@ bool Simplifier::fan_triangulation(RemovalPlan& plan, const uint64_t* adjacent,
             const double sum =
                 dot(sub(q, apex), sub(q, apex)) + dot(sub(r, apex), sub(r, apex)) + outer[i];
             if (la <= kNeedle * sum || (lb > 0 && dot(after, before[i]) < turn_cos * la * lb) ||
-                (plan.star_faces_along && !WorkingMesh::faces_along_normals(
-                                              after, reference[j], reference[i], reference[i1])))
+                (plan.star_faces_along &&
+                 !faces_the_surface(after, reference[j], reference[i], reference[i1])))
                 ok = false;
             else
                 worst = std::min(worst, 2 * std::sqrt(3.0) * la / sum);
