@@ -36,11 +36,11 @@ def misses(goals):
             if not run or run["status"] != "ok":
                 out.append(f"{where} {measure}: ddsimp's run {run['status'] if run else 'missing'}"
                            f" ({run['message'] if run else ''})")
+            elif measure == "data_rms" and not run["topology_kept"]:
+                out.append(f"{where} {measure}: topology not kept")
             elif rival:
                 out.append(f"{where} {measure}: {run[measure]:.4g} against {label(rival)}'s "
                            f"{rival[measure]:.4g} (×{run[measure] / rival[measure]:.3f})")
-            else:
-                out.append(f"{where} {measure}: topology not kept")
     return out
 
 
