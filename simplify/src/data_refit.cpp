@@ -359,7 +359,6 @@ void fit_positions(const RefitInput& input, const Stars& stars, const std::vecto
     }
 }
 
-// The least-squares data of the free vertices over both sets of samples (see refit_data).
 // Per fitted component, the range it spans over the input's vertices that triangles use.
 std::vector<std::pair<double, double>> input_ranges(const RefitInput& input) {
     std::vector<std::pair<double, double>> range;
@@ -376,6 +375,8 @@ std::vector<std::pair<double, double>> input_ranges(const RefitInput& input) {
     return range;
 }
 
+// The least-squares data of the free vertices over both sets of samples (see refit_data), each
+// value clamped to its component's `range`.
 void fit_values(const RefitInput& input, const std::vector<std::pair<double, double>>& range,
                 const Stars& stars, const std::vector<Landing>& forward,
                 const std::vector<Landing>& backward, Surface& level, Parallel& parallel) {
