@@ -81,16 +81,26 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
             // The terms that are summed into; the per-component G and D below are assigned.
             std::fill_n(face.begin(), kSharedTerms, 0.0);
             const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
-            if (geometry > 0) add_plane(face.data(), unit, -dot(unit, x0), geometry * area);
             const double w = data * area;
             if (components > 0) face[10] = w;
             // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
             const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
                        across2 = scale(cross(normal, e1), 1 / nn);
+            auto gradient_of = [&](size_t j) {
+                const double s0 = datum(v[0], j);
+                return detail::add(scale(across1, datum(v[1], j) - s0),
+                                   scale(across2, datum(v[2], j) - s0));
+            };
+            double steepness = 0; // sum_j |g_j|^2
+            for (size_t j = 0; j < components; ++j) {
+                const Vec3 g = gradient_of(j);
+                steepness += dot(g, g);
+            }
+            const double plane = geometry + kShiftWeight * data * steepness;
+            if (plane > 0) add_plane(face.data(), unit, -dot(unit, x0), plane * area);
             for (size_t j = 0; j < components; ++j) {
                 const double s0 = datum(v[0], j);
-                const Vec3 g = detail::add(scale(across1, datum(v[1], j) - s0),
-                                           scale(across2, datum(v[2], j) - s0));
+                const Vec3 g = gradient_of(j);
                 const double d = s0 - dot(g, x0);
                 double* q = face.data();
                 q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];

@@ -3,8 +3,9 @@
 // point, against the quadrics evaluated along a segment; the least error over points, against
 // each point alone; the data of least error at a point, against the closed form. The quadrics are
 // built by hand from planes and a linear field, so that E(x, s) = sum (n.x + e)^2 + w (s - g.x -
-// d)^2 is known in closed form.
+// d)^2 is known in closed form. And setup's plane weight, which grows with the data's steepness.
 #include "error_quadric.h"
+#include "parallel.h"
 #include "working_mesh.h"
 
 #include <gtest/gtest.h>
@@ -193,6 +194,64 @@ TEST(ErrorQuadrics, LeastDataIsTheLeastSquaresValueClampedToTheEnds) {
     float out[1] = {-1};
     EXPECT_EQ(label.least_data(0, 1, x, fa, fb, t, out), 0.0);
     EXPECT_EQ(out[0], -1.0f);
+}
+
+} // namespace
+} // namespace ddsimp::detail
+
+namespace ddsimp::detail {
+namespace {
+
+// E(x, s) of one vertex's quadric (the layout of error_quadric.h), normalised units.
+double error_of(const ErrorQuadrics& q, uint32_t v, const Vec3& x, double s) {
+    const double* a = q.of(v);
+    const double xax = x[0] * (a[0] * x[0] + 2 * a[1] * x[1] + 2 * a[2] * x[2]) +
+                       x[1] * (a[3] * x[1] + 2 * a[4] * x[2]) + x[2] * a[5] * x[2];
+    double e = xax + 2 * dot({a[6], a[7], a[8]}, x) + a[9];
+    for (size_t j = 0; j < q.components; ++j) {
+        const double* g = a + ErrorQuadrics::kSharedTerms + 4 * j;
+        e += a[10] * s * s - 2 * s * (dot({g[0], g[1], g[2]}, x) + g[3]);
+    }
+    return e;
+}
+
+// One right triangle in the plane z = 0 carrying a field f. The cost of stepping a corner off
+// the plane by delta, its datum held: the plane's weight x area x delta^2.
+double step_off_cost(const std::vector<float>& f, double geometry, double data) {
+    Surface s;
+    s.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    s.triangles = {0, 1, 2};
+    s.fields.push_back({"f", 1, f});
+    WorkingMesh mesh;
+    mesh.build(s, s.vertex_count(), Limits{});
+    GradientTerms gradient;
+    gradient.setup(s, {});
+    Parallel parallel(1);
+    ErrorQuadrics q;
+    q.setup(mesh, gradient, geometry, data, s.vertex_count(), parallel);
+    const Vec3 corner = scale(sub({0, 0, 0}, q.centre), q.inv_diagonal);
+    const double datum = q.components > 0 ? (f[0] - q.low[0]) * q.inv_range[0] : 0, delta = 0.01;
+    return error_of(q, 0, {corner[0], corner[1], corner[2] + delta}, datum) -
+           error_of(q, 0, corner, datum);
+}
+
+// Where the data is steep, a point off the surface misplaces the data a reader sees: the plane
+// weighs kShiftWeight x data x |g|^2 more. Where the data is flat, or does not count, it does not.
+// Field f = x over a unit triangle: one range per unit length, so |g| = the diagonal, sqrt(2), in
+// ranges per diagonal; area 1/4 in diagonals squared.
+TEST(ErrorQuadrics, AStepOffTheSurfaceCostsMoreWhereTheDataIsSteep) {
+    const double area = 0.25, delta2 = 1e-4, steepness = 2;
+    const std::vector<float> ramp = {0, 1, 0};
+    EXPECT_NEAR(step_off_cost(ramp, 0.2, 1.0),
+                (0.2 + ErrorQuadrics::kShiftWeight * steepness) * area * delta2, 1e-12);
+    // f = x + y: |g|^2 twice the ramp's.
+    EXPECT_NEAR(step_off_cost({0, 1, 1}, 0.2, 1.0),
+                (0.2 + ErrorQuadrics::kShiftWeight * 2 * steepness) * area * delta2, 1e-12);
+    // Flat data: the geometric weight alone.
+    EXPECT_NEAR(step_off_cost({0.5f, 0.5f, 0.5f}, 0.2, 1.0), 0.2 * area * delta2, 1e-12);
+    EXPECT_GT(step_off_cost(ramp, 0.2, 1.0), step_off_cost({0.5f, 0.5f, 0.5f}, 0.2, 1.0));
+    // With no data term (alpha = 1) the geometry weighs what it says, steep data or not.
+    EXPECT_NEAR(step_off_cost(ramp, 1.0, 0.0), 1.0 * area * delta2, 1e-12);
 }
 
 } // namespace

@@ -20,7 +20,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 34;
+inline constexpr int algorithm_version = 35;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
