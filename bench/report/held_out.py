@@ -24,8 +24,22 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 GOAL_ALPHAS = (None, 0.0, 1.0)  # the peers (no α), then the data goal's and the Hausdorff goal's
 
 
+def topology_change(row):
+    """What a run changed of its input's topology, as a clause; empty if it kept the topology."""
+    if row.get("topology_kept") is not False:
+        return ""
+    changed = [f"{name} {row[key + '_in']} → {row[key + '_out']}"
+               for name, key in (("components", "components"), ("boundary loops", "boundary_loops"),
+                                 ("Euler characteristic", "euler"),
+                                 ("non-manifold edges", "nonmanifold_edges"))
+               if row.get(key + "_in") is not None and row.get(key + "_out") is not None
+               and row[key + "_in"] != row[key + "_out"]]
+    return ", which changed the topology" + (f" ({', '.join(changed)})" if changed else "")
+
+
 def misses(goals):
-    """One line per goal missed: the run, the rival that beats it, by how much."""
+    """One line per goal missed: the run, the rival that beats it, by how much, and what the rival
+    changed of the topology (ddsimp keeps it)."""
     out = []
     for g in goals:
         where = f"{g['surface']} {g['level']:.0%} {g['strategy']}"
@@ -40,7 +54,8 @@ def misses(goals):
                 out.append(f"{where} {measure}: topology not kept")
             elif rival:
                 out.append(f"{where} {measure}: {run[measure]:.4g} against {label(rival)}'s "
-                           f"{rival[measure]:.4g} (×{run[measure] / rival[measure]:.3f})")
+                           f"{rival[measure]:.4g} (×{run[measure] / rival[measure]:.3f})"
+                           + topology_change(rival))
     return out
 
 
