@@ -99,6 +99,17 @@ full)
     iso fire-t400 fire_ug.vtu --field t --value 400 --carry mfrac,uvw
     iso carotid-150 carotid.vtk --field scalars --value 150 --carry vectors
     iso cth-armor03 cth.vtr --field "Volume Fraction for Armor Plate" --value 0.3 --carry Pressure
+    # ... and at other values again, each carrying one field of its volume.
+    iso disk-temp300 disk_out_ref.ex2 --field Temp --value 300 --carry Pres
+    iso disk-temp420 disk_out_ref.ex2 --field Temp --value 420 --carry V
+    iso fire-t350 fire_ug.vtu --field t --value 350 --carry uvw
+    iso kitchen-h20400 kitchen.vtk --field h1 --value 20400 --carry velocity
+    iso bluntfin-density09 bluntfinxyz.bin --q "$shared/volumes/bluntfinq.bin" --field Density \
+        --value 0.9 --carry Momentum
+    iso combustor-density22 combxyz.bin --q "$shared/volumes/combq.bin" --field Density \
+        --value 0.22 --carry Momentum
+    iso cth-armor07 cth.vtr --field "Volume Fraction for Armor Plate" --value 0.7 --carry Pressure
+    iso carotid-120 carotid.vtk --field scalars --value 120 --carry vectors
     ;;
 *)
     echo "make-surfaces.sh: unknown mode $mode" >&2

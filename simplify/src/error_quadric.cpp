@@ -64,6 +64,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     parallel.for_pieces(mesh.vertex_count, [&](size_t lo, size_t hi, size_t) {
         auto mine = [&](uint32_t v) { return v >= lo && v < hi; };
         std::vector<double> face(size);
+        std::vector<Vec3> gradients(components);
         // A piece is a thread's whole share: the watch on the threads (stage_watch.h) is checked
         // every few milliseconds of it.
         constexpr uint32_t kTrianglesPerCheck = 8192;
@@ -86,21 +87,18 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
             // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
             const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
                        across2 = scale(cross(normal, e1), 1 / nn);
-            auto gradient_of = [&](size_t j) {
-                const double s0 = datum(v[0], j);
-                return detail::add(scale(across1, datum(v[1], j) - s0),
-                                   scale(across2, datum(v[2], j) - s0));
-            };
             double steepness = 0; // sum_j |g_j|^2
             for (size_t j = 0; j < components; ++j) {
-                const Vec3 g = gradient_of(j);
-                steepness += dot(g, g);
+                const double s0 = datum(v[0], j);
+                gradients[j] = detail::add(scale(across1, datum(v[1], j) - s0),
+                                           scale(across2, datum(v[2], j) - s0));
+                steepness += dot(gradients[j], gradients[j]);
             }
             const double plane = geometry + kShiftWeight * data * steepness;
             if (plane > 0) add_plane(face.data(), unit, -dot(unit, x0), plane * area);
             for (size_t j = 0; j < components; ++j) {
                 const double s0 = datum(v[0], j);
-                const Vec3 g = gradient_of(j);
+                const Vec3& g = gradients[j];
                 const double d = s0 - dot(g, x0);
                 double* q = face.data();
                 q[0] += w * g[0] * g[0], q[1] += w * g[0] * g[1], q[2] += w * g[0] * g[2];

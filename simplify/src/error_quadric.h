@@ -82,7 +82,8 @@ struct ErrorQuadrics {
     // The quadrics of every live vertex of `mesh` (slots up to `capacity`), from its input
     // triangles and, for the geometry, planes through its boundary edges perpendicular to the
     // surface, so that a boundary keeps its shape. `gradient` says which data components count;
-    // the geometric error weighs `geometry`, the data error `data` (none: no data terms). The
+    // the geometric error weighs `geometry` (a triangle's plane more where its data is steep,
+    // kShiftWeight), the data error `data` (none: no data terms). The
     // same bits on any number of threads; part-way if a watch on `parallel` stops it
     // (stage_watch.h).
     void setup(const WorkingMesh& mesh, const GradientTerms& gradient, double geometry, double data,
