@@ -86,6 +86,7 @@ void Simplifier::set_up(const Surface& surface, const Options& options) {
         for (uint32_t v = 0; v < capacity; ++v) mesh_.locked[rank_[v]] = options.locked[v] != 0;
     }
     mesh_.track_angles = options.terms == Terms::AngleDeficitGradient; // for the curvature
+    line_tolerance_ = options.line_tolerance;
     mesh_.build(surface, capacity, limits_from(options), id_, rank_, &parallel_); // locality order
     if (parallel_.stopped()) return;
     const bool collapse = options.strategy == Strategy::EdgeCollapse;
@@ -261,6 +262,32 @@ void Simplifier::refresh_changed(uint32_t v, bool made, bool apex) {
     if (rekey || apex || kind != VertexKind::Free) mark_edges_at(v, rekey);
 }
 
+void Simplifier::forgive_refusals() {
+    const bool collapse = options_.strategy == Strategy::EdgeCollapse;
+    for (uint32_t id = 0; id < fail_.size(); ++id)
+        if (fail_[id] != 0 &&
+            (collapse ? mesh_.origin[id] != kNone : mesh_.kind[id] != detail::VertexKind::Dead))
+            mark_stale(collapse ? edge_id(id) : id);
+    std::fill(fail_.begin(), fail_.end(), 0);
+    if (collapse) {
+        std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
+        std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
+    }
+}
+
+bool Simplifier::widen_lines() {
+    // Doubling keeps a tolerance of 0 (only straight lines thin out) as the caller set it.
+    const double wider = std::min(2 * line_tolerance_, kWidestLine);
+    if (wider <= line_tolerance_) return false;
+    line_tolerance_ = wider;
+    mesh_.limits.straight_cos = std::cos(wider * std::numbers::pi / 180.0);
+    // Only a corner between exactly two line edges can become a line vertex; locked vertices
+    // stay corners (classify).
+    for (uint32_t v = 0; v < mesh_.vertex_count; ++v)
+        if (mesh_.kind[v] == VertexKind::Corner) refresh_changed(v, false, true);
+    return true;
+}
+
 void Simplifier::mark_edges_at(uint32_t v, bool rekey) {
     mesh_.for_each_edge(v, [&](uint32_t h, uint32_t, bool) {
         const uint32_t id = edge_id(h);
@@ -364,19 +391,12 @@ bool Simplifier::run_pass(size_t target, StopReason& stop) {
     size_t share = 0;
     if (!rank_candidates(share)) return stop = StopReason::Cancelled, true;
     if (share == 0) {
-        // The last resort: a new triangle need only face along its corners' reference normals
-        // together, and every refused edge or vertex is tried again.
-        if (relaxed_facing_) return stop = StopReason::NothingRemovable, true;
+        // The last resorts, in turn: a new triangle need only face along its corners' reference
+        // normals together; then lines may bend more where a vertex goes (widen_lines). Each
+        // time every refused edge or vertex is tried again.
+        if (relaxed_facing_ && !widen_lines()) return stop = StopReason::NothingRemovable, true;
         relaxed_facing_ = true;
-        for (uint32_t id = 0; id < fail_.size(); ++id)
-            if (fail_[id] != 0 &&
-                (collapse ? mesh_.origin[id] != kNone : mesh_.kind[id] != detail::VertexKind::Dead))
-                mark_stale(collapse ? edge_id(id) : id);
-        std::fill(fail_.begin(), fail_.end(), 0);
-        if (collapse) {
-            std::fill(refusal_near_.begin(), refusal_near_.end(), 0);
-            std::fill(fail_at_.begin(), fail_at_.end(), kNoFold);
-        }
+        forgive_refusals();
         return false;
     }
     if (ranked_.front().weight() > options_.max_weight) return stop = StopReason::WeightBound, true;

@@ -520,6 +520,16 @@ private:
     // Once nothing else is removable: a new or moved triangle is checked against the sum of its
     // corners' reference normals instead of each (see run_pass, keeps_facing, faces_the_surface).
     bool relaxed_facing_ = false;
+    // The line tolerance in force (degrees): Options::line_tolerance until nothing else is
+    // removable even with the facing relaxed; then, each time, doubled up to kWidestLine (see
+    // widen_lines).
+    static constexpr double kWidestLine = 80.0;
+    double line_tolerance_ = 0;
+    // Widens the line tolerance one step and re-classifies the corners that it makes line
+    // vertices, their candidates marked for ranking; false if it cannot widen.
+    bool widen_lines();
+    // Marks every refused candidate for ranking again, its refusal forgotten.
+    void forgive_refusals();
     // Whether a vertex removal's new triangle with normal n faces the way of the surface at its
     // corners, whose reference normals are ra, rb, rc: at each, or, once relaxed, on their sum.
     bool faces_the_surface(const detail::Vec3& n, const detail::Vec3& ra, const detail::Vec3& rb,

@@ -52,6 +52,26 @@ TEST_P(Progressive, LevelEqualsADirectRun) {
     }
 }
 
+// Past the last resorts as well: a flat 24-gon fan with a line tolerance of 10 degrees (its rim
+// turns by 15) loses its centre and then, once the tolerance widens, rim vertices; each level,
+// before and after the widening, equals a direct run to it.
+TEST_P(Progressive, LevelPastAWidenedLineEqualsADirectRun) {
+    const Surface in = with_test_fields(fan(24));
+    Options o = record_options();
+    o.line_tolerance = 10.0;
+    ProgressiveRecord rec = ProgressiveRecord::build(in, o);
+    ASSERT_GT(rec.operations(), 0u);
+    const size_t coarsest = rec.triangles_after(rec.operations() - 1);
+    ASSERT_LT(coarsest, 22u); // past the centre's removal: the rim thinned out
+    for (size_t n = 22; n >= coarsest; --n) {
+        o.target_triangles = n;
+        const Result direct = simplify(in, o);
+        EXPECT_EQ(direct.stop, StopReason::TargetReached) << n;
+        EXPECT_TRUE(same_bytes(rec.level(n), direct.surface)) << "level " << n;
+        EXPECT_EQ(direct.operations, rec.operations_for(n)) << n;
+    }
+}
+
 // The repaired input (degenerate and duplicate triangles dropped, unused vertices gone) is
 // after(0), and level(triangles_in).
 TEST_P(Progressive, AfterZeroIsTheRepairedInput) {

@@ -634,24 +634,55 @@ TEST_P(Simplify, SquareGridKeepsItsOutline) {
     EXPECT_LT(r.triangles_out, in.triangle_count() / 4);
 }
 
-// Line tolerance: the rim of a 24-gon fan turns by 15 degrees at each vertex. With the default
-// 20 degrees rim vertices may go; with 10 degrees none may (the tolerance is the only thing that
-// differs).
+// Line tolerance: the rim of a 24-gon fan turns by 15 degrees at each vertex, and its centre
+// rises 0.5 above the rim, so that removing the centre costs far more than thinning the rim.
+// Reduced by one triangle: with the default 20 degrees the rim gives way (an edge collapse along
+// it may move both its ends); with 10 degrees it may not, and the centre goes instead (the
+// tolerance is the only thing that differs).
 TEST_P(Simplify, LineToleranceGuardsTheBoundary) {
-    Surface in = with_test_fields(fan(24));
+    const Surface in = with_test_fields(fan(24, 0.5));
+    auto rim_left = [&](const Surface& out) {
+        size_t left = 0;
+        for (size_t v = 1; v <= 24; ++v) left += has_vertex_at(out, position(in, v));
+        return left;
+    };
+    Options o = options();
+    o.target_triangles = 23;
+    o.line_tolerance = 10.0;
+    const Result strict = simplify(in, o);
+    EXPECT_EQ(rim_left(strict.surface), 24u);
+    EXPECT_FALSE(has_vertex_at(strict.surface, position(in, 0)));
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(strict.surface)));
+    o.line_tolerance = 20.0;
+    const Result loose = simplify(in, o);
+    EXPECT_LT(rim_left(loose.surface), 24u);
+    EXPECT_TRUE(has_vertex_at(loose.surface, position(in, 0)));
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(loose.surface)));
+}
+
+// Once nothing else is removable, lines may bend more where a vertex goes: a flat 24-gon fan
+// with a tolerance of 10 degrees (its rim turns by 15) loses its centre, and then its rim thins
+// out: what is left of it turns by more than the widest tolerance, 80 degrees, at every vertex,
+// so at most 4 vertices (the turns add up to 360). A tolerance of 0 never widens: the whole rim
+// stays. (A right angle always stays: VertexRemoval.SquareGridEndsAsTwoTriangles.)
+TEST_P(Simplify, LinesWidenOnceNothingElseIsRemovable) {
+    const Surface in = with_test_fields(fan(24));
     Options o = options();
     o.keep_fraction = 0.0;
     o.line_tolerance = 10.0;
-    Result strict = simplify(in, o);
-    for (size_t v = 1; v <= 24; ++v)
-        EXPECT_TRUE(has_vertex_at(strict.surface, position(in, v))) << v;
-    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(strict.surface)));
-    o.line_tolerance = 20.0;
-    Result loose = simplify(in, o);
+    const Result widened = simplify(in, o);
+    EXPECT_EQ(widened.stop, StopReason::NothingRemovable) << describe(widened.stop);
     size_t rim_left = 0;
-    for (size_t v = 1; v <= 24; ++v) rim_left += has_vertex_at(loose.surface, position(in, v));
-    EXPECT_LT(rim_left, 24u);
-    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(loose.surface)));
+    for (size_t v = 1; v <= 24; ++v) rim_left += has_vertex_at(widened.surface, position(in, v));
+    EXPECT_LE(rim_left, 4u);
+    EXPECT_TRUE(topology_kept(analyze_topology(in), analyze_topology(widened.surface)));
+    for (size_t t = 0; t < widened.surface.triangle_count(); ++t)
+        EXPECT_GT(triangle_normal(widened.surface, t)[2], 0);
+    o.line_tolerance = 0.0;
+    const Result kept = simplify(in, o);
+    EXPECT_EQ(kept.stop, StopReason::NothingRemovable) << describe(kept.stop);
+    EXPECT_EQ(kept.triangles_out, 22u);
+    for (size_t v = 1; v <= 24; ++v) EXPECT_TRUE(has_vertex_at(kept.surface, position(in, v))) << v;
 }
 
 // --- feature edges -------------------------------------------------------------------------------

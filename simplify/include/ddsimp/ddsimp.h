@@ -20,7 +20,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 35;
+inline constexpr int algorithm_version = 36;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -186,6 +186,7 @@ enum class StopReason {
     TargetReached,    // the triangle target was met
     WeightBound,      // the lightest remaining element weighs more than Options::max_weight
     NothingRemovable, // every remaining element would change topology, flip or fold a triangle
+                      // or move a corner of a line (see line_tolerance)
     Cancelled,        // the progress callback asked to stop
 };
 
@@ -214,7 +215,9 @@ struct Options {
     // slivers, which would pin most vertices. Turn it on for CAD-like parts (e.g. 45).
     double feature_angle = 180.0;
     // A boundary or feature vertex is removed only where its line continues within this angle
-    // (degrees) of straight.
+    // (degrees) of straight. Once nothing else is removable before the target, the angle doubles,
+    // at most to 80 degrees, as often as that makes more removable (0 never widens; a right angle
+    // always stays).
     double line_tolerance = 20.0;
     // Largest allowed turn (degrees) of any remaining triangle's normal in one operation; larger
     // turns are refused as folds. (Independently, no operation may leave a triangle facing away
