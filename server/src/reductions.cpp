@@ -4,20 +4,6 @@
 
 #include <malloc.h>
 
-// Under AddressSanitizer and ThreadSanitizer the sanitizer's allocator holds the memory: glibc's
-// has nothing to give back, and its malloc_trim, called from threads while glibc's allocator was
-// never used, reads an arena that was never set up and crashes (google/sanitizers#1721).
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define DDSIMP_SANITIZER_ALLOCATOR 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-#define DDSIMP_SANITIZER_ALLOCATOR 1
-#endif
-#endif
-#ifndef DDSIMP_SANITIZER_ALLOCATOR
-#define DDSIMP_SANITIZER_ALLOCATOR 0
-#endif
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -85,9 +71,12 @@ Reductions::record(const ReductionParams& params, const std::string& key, size_t
             };
             // A run's working memory (about 250 bytes a triangle) goes back to the system when
             // it ends; the allocator would keep it, and the server's memory at rest would grow.
+            // Not under AddressSanitizer or ThreadSanitizer (GCC's macros, as in parallel.h):
+            // their allocator holds the memory, and glibc's malloc_trim from threads then reads
+            // an arena that was never set up and crashes (google/sanitizers#1721).
             struct TrimAfterTheRun {
                 ~TrimAfterTheRun() {
-#if !DDSIMP_SANITIZER_ALLOCATOR
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
                     malloc_trim(0);
 #endif
                 }
