@@ -433,6 +433,7 @@ Simplifier::Apexes Simplifier::apply_collapse(const CollapsePlan& plan, size_t i
         m.reference_of(n)[c] = lr > 0 ? float(ref[c] / lr) : m.reference_of(a)[c];
     m.kind[n] = interior ? VertexKind::Free : VertexKind::Corner;
     if (!m.locked.empty()) m.locked[n] = m.locked[a] | m.locked[b]; // placed on the locked end
+    if (!m.zigzag.empty()) m.zigzag[n] = m.zigzag[a] | m.zigzag[b];
     m.reset_out(n, leaving[0]);
     // An apex that another collapse of the pass shares waits for them all (refresh_rings): its
     // out[] is set again by the collapse that removed it.

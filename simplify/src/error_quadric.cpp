@@ -58,6 +58,22 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
     auto datum = [&](uint32_t v, size_t j) {
         return (double(mesh.data_of(v)[offset[j]]) - low[j]) * inv_range[j];
     };
+    // The data's linear interpolation on triangle v (edges e1, e2 from v[0], normal e1 x e2 of
+    // squared length nn): s(x) = g.x + d, g in its plane. Writes each component's g and returns
+    // sum_j |g_j|^2.
+    auto steepness_of = [&](const uint32_t v[3], const Vec3& e1, const Vec3& e2, const Vec3& normal,
+                            double nn, Vec3* gradients) {
+        const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
+                   across2 = scale(cross(normal, e1), 1 / nn);
+        double steepness = 0;
+        for (size_t j = 0; j < components; ++j) {
+            const double s0 = datum(v[0], j);
+            gradients[j] = detail::add(scale(across1, datum(v[1], j) - s0),
+                                       scale(across2, datum(v[2], j) - s0));
+            steepness += dot(gradients[j], gradients[j]);
+        }
+        return steepness;
+    };
     const size_t halfedges = mesh.origin.size();
     // Each triangle's terms go to its three corners: one piece of the vertices per thread, each
     // taking the triangles in order, so that a vertex sums its terms in triangle order.
@@ -84,16 +100,7 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
             const Vec3 unit = scale(normal, 1 / std::sqrt(nn));
             const double w = data * area;
             if (components > 0) face[10] = w;
-            // The data's linear interpolation on the triangle: s(x) = g.x + d, g in its plane.
-            const Vec3 across1 = scale(cross(e2, normal), 1 / nn),
-                       across2 = scale(cross(normal, e1), 1 / nn);
-            double steepness = 0; // sum_j |g_j|^2
-            for (size_t j = 0; j < components; ++j) {
-                const double s0 = datum(v[0], j);
-                gradients[j] = detail::add(scale(across1, datum(v[1], j) - s0),
-                                           scale(across2, datum(v[2], j) - s0));
-                steepness += dot(gradients[j], gradients[j]);
-            }
+            const double steepness = steepness_of(v, e1, e2, normal, nn, gradients.data());
             const double plane = geometry + kShiftWeight * data * steepness;
             if (plane > 0) add_plane(face.data(), unit, -dot(unit, x0), plane * area);
             for (size_t j = 0; j < components; ++j) {
@@ -115,18 +122,29 @@ void ErrorQuadrics::setup(const WorkingMesh& mesh, const GradientTerms& gradient
         if (geometry == 0) return;
         // Boundary edges: the plane through the edge perpendicular to its triangle, weighted like
         // a triangle on the edge, so that sliding a boundary vertex off its line costs what it
-        // does.
+        // does: in geometry, and where the data is steep in data too (the input beyond a boundary
+        // that moves in is read at the boundary: a shift, as above).
         for (uint32_t h = 0; h < halfedges; ++h) {
             if (mesh.origin[h] == kNone || mesh.twin[h] != kNone) continue;
             const uint32_t a = mesh.origin[h], b = mesh.dest(h);
             if (!mine(a) && !mine(b)) continue;
+            const uint32_t t = h / 3;
+            const uint32_t v[3] = {mesh.origin[3 * t], mesh.origin[3 * t + 1],
+                                   mesh.origin[3 * t + 2]};
+            const Vec3 x0 = position(v[0]), e1 = sub(position(v[1]), x0),
+                       e2 = sub(position(v[2]), x0);
+            const Vec3 triangle = cross(e1, e2);
+            const double tt = dot(triangle, triangle);
             const Vec3 xa = position(a), edge = sub(position(b), xa);
-            const Vec3 normal = cross(edge, mesh.triangle_normal(h / 3));
+            const Vec3 normal = cross(edge, mesh.triangle_normal(t));
             const double nn = norm(normal);
             if (!(nn > 0)) continue;
             const Vec3 unit = scale(normal, 1 / nn);
+            const double steepness =
+                tt > 0 ? steepness_of(v, e1, e2, triangle, tt, gradients.data()) : 0;
             std::fill(face.begin(), face.end(), 0.0);
-            add_plane(face.data(), unit, -dot(unit, xa), geometry * dot(edge, edge));
+            add_plane(face.data(), unit, -dot(unit, xa),
+                      (geometry + kShiftWeight * data * steepness) * dot(edge, edge));
             for (uint32_t c : {a, b})
                 if (mine(c))
                     for (size_t i = 0; i < 10; ++i) of(c)[i] += face[i];

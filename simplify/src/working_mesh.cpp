@@ -40,6 +40,25 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
     // Once a watch on the threads stops a loop (stage_watch.h), the serial steps between the
     // loops would read what it left undone: the build ends there.
     if (parallel.stopped()) return;
+    if (limits.straight_cos < 1 && halfedges > 0) { // a line tolerance: Limits::zigzag
+        // The input's mean edge length (each half-edge once), summed in blocks of triangles
+        // fixed by the surface, so that the bits do not depend on the threads.
+        constexpr size_t kBlock = 1 << 14;
+        const size_t triangles = halfedges / 3, blocks = (triangles + kBlock - 1) / kBlock;
+        std::vector<double> part(blocks, 0.0);
+        parallel.for_each(
+            blocks,
+            [&](size_t b) {
+                double sum = 0;
+                for (size_t h = 3 * b * kBlock; h < 3 * std::min(triangles, (b + 1) * kBlock); ++h)
+                    sum += norm(sub(point(dest(uint32_t(h))), point(origin[h])));
+                part[b] = sum;
+            },
+            1);
+        double sum = 0;
+        for (double p : part) sum += p;
+        limits.zigzag = kZigzagShare * sum / double(halfedges);
+    }
     assign_on_threads(twin, halfedges, kNone, parallel);
     assign_on_threads(line, halfedges, 0, parallel);
     assign_on_threads(angle, track_angles ? halfedges : 0, 0.0f, parallel);
@@ -164,6 +183,18 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
         for_each_outgoing(uint32_t(v), [&](uint32_t) { ++fan; });
         if (open > 1 || fan != first[v + 1] - first[v]) kind[v] = VertexKind::Complex;
     });
+    if (limits.zigzag > 0) {
+        assign_on_threads(zigzag, capacity, 0, parallel);
+        parallel.for_each(vertex_count, [&](size_t v) {
+            if (kind[v] == VertexKind::Dead || kind[v] == VertexKind::Complex) return;
+            uint32_t ends[2];
+            int lines = 0;
+            for_each_edge(uint32_t(v), [&](uint32_t h, uint32_t other, bool outgoing) {
+                if ((!outgoing || line[h]) && lines++ < 2) ends[lines - 1] = other;
+            });
+            if (lines == 2) zigzag[v] = turns_back(uint32_t(v), ends[0], ends[1]);
+        });
+    }
     parallel.for_each(vertex_count, [&](size_t v) { classify(uint32_t(v)); });
 }
 
@@ -237,6 +268,32 @@ void WorkingMesh::blend_data(uint32_t a, uint32_t b, double along, uint32_t n) {
         }
         da += nc, db += nc, dn += nc;
     }
+}
+
+bool WorkingMesh::turns_back(uint32_t v, uint32_t a, uint32_t b) const {
+    const Vec3 p = point(v);
+    const float* r = reference_of(v);
+    const Vec3 normal{r[0], r[1], r[2]};
+    // The turn from x to y to z: > 0 to the left of the normal, < 0 to the right.
+    auto turn = [&](const Vec3& x, const Vec3& y, const Vec3& z) {
+        return dot(cross(sub(y, x), sub(z, y)), normal);
+    };
+    const double here = turn(point(a), p, point(b));
+    // The line's next vertex beyond `end` (away from v), if end is on one line only.
+    auto beyond = [&](uint32_t end) {
+        uint32_t next = kNone;
+        int lines = 0;
+        for_each_edge(end, [&](uint32_t h, uint32_t other, bool outgoing) {
+            if (!outgoing || line[h]) {
+                ++lines;
+                if (other != v) next = other;
+            }
+        });
+        return lines == 2 ? next : kNone;
+    };
+    const uint32_t before = beyond(a), after = beyond(b);
+    return (before != kNone && turn(point(before), point(a), p) * here < 0) ||
+           (after != kNone && turn(p, point(b), point(after)) * here < 0);
 }
 
 double WorkingMesh::curvature(uint32_t v) const {

@@ -22,6 +22,9 @@ namespace ddsimp::detail {
 inline constexpr uint32_t kNone = 0xffffffffu;
 // Rounds of neighbour averaging that turn vertex normals into reference normals.
 inline constexpr int kReferenceSmoothing = 4;
+// Limits::zigzag, as a share of the input's mean edge length: a rim that crosses the cells
+// wanders by about half a cell from its straight course.
+inline constexpr double kZigzagShare = 0.5;
 // Two neighbouring triangles whose normals are more than 175 degrees apart: the surface folds
 // back over itself there (a cutting plane through a mesh's overlapping cells makes these). The
 // error quadrics hardly see what moving such a fold costs, since its two sides lie in nearly one
@@ -71,6 +74,13 @@ inline std::array<Vec3, 2> plane_across(const Vec3& axis) {
 inline Vec3 point_of(const std::vector<float>& positions, uint32_t v) {
     return {positions[3 * size_t(v)], positions[3 * size_t(v) + 1], positions[3 * size_t(v) + 2]};
 }
+// The distance from p to the segment from a to b.
+inline double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = sub(b, a), ap = sub(p, a);
+    const double length2 = dot(ab, ab);
+    const double t = length2 > 0 ? std::clamp(dot(ap, ab) / length2, 0.0, 1.0) : 0.0;
+    return norm(sub(ap, scale(ab, t)));
+}
 // The point of triangle (a, b, c) closest to p, and its barycentric weights.
 struct ClosestPoint {
     Vec3 point;
@@ -114,6 +124,12 @@ struct Limits {
     double feature_cos = -2; // twin normals with a smaller cosine make a feature edge
     double straight_cos = 1; // a line vertex's two edges must turn less than this
     double normal_turn_cos = 0.5;
+    // A vertex whose line turns more than straight_cos allows is still a line vertex when it
+    // lies within this distance of the segment between its two line neighbours and its input
+    // line turned the other way at a neighbour (WorkingMesh::zigzag, turns_back): a zigzag of the
+    // sampling (a cut or an isosurface's rim crossing the cells), not a bend of the line. Set by
+    // build to kZigzagShare of the input's mean edge length when there is a line tolerance; 0: off.
+    double zigzag = 0;
 };
 
 struct WorkingMesh {
@@ -132,6 +148,10 @@ struct WorkingMesh {
     // empty: none. classify makes a locked vertex a Corner, and a collapse into a locked vertex
     // passes the lock on to the slot of the new vertex.
     Array<uint8_t> locked;
+    // Vertices on a line of the input that turn the other way from a line neighbour
+    // (turns_back): where the line may be a zigzag of the sampling (Limits::zigzag); empty when
+    // there is none. A collapse passes it on to the new vertex from either end.
+    Array<uint8_t> zigzag;
     size_t vertex_count = 0; // vertices in use (ids below this)
 
     // Per half-edge.
@@ -254,6 +274,10 @@ struct WorkingMesh {
         const double full = is_boundary_vertex(v) ? std::numbers::pi : 2 * std::numbers::pi;
         return std::abs(full - angles) / std::numbers::pi;
     }
+    // Whether line vertex v, between its line neighbours a and b, turns the other way (about its
+    // reference normal) from a or b, each seen along the line: the line may zigzag there. A
+    // polygon's corners all turn one way. Reads the line beyond a and b: for the input only.
+    bool turns_back(uint32_t v, uint32_t a, uint32_t b) const;
     // Unit-free curvature: |2pi - sum of angles| (|pi - ...| on a boundary) / pi.
     double curvature(uint32_t v) const;
 };
@@ -284,7 +308,11 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     } else if (lines == 2) {
         const Vec3 p = point(v), in = sub(p, point(ends[0])), on = sub(point(ends[1]), p);
         const double l = norm(in) * norm(on);
-        if (l > 0 && dot(in, on) >= limits.straight_cos * l) kind[v] = VertexKind::Line;
+        if (l > 0 && dot(in, on) >= limits.straight_cos * l)
+            kind[v] = VertexKind::Line;
+        else if (!zigzag.empty() && zigzag[v] &&
+                 distance_to_segment(p, point(ends[0]), point(ends[1])) <= limits.zigzag)
+            kind[v] = VertexKind::Line;
     }
     if (!locked.empty() && locked[v]) kind[v] = VertexKind::Corner;
     return angles;

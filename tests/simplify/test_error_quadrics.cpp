@@ -3,7 +3,8 @@
 // point, against the quadrics evaluated along a segment; the least error over points, against
 // each point alone; the data of least error at a point, against the closed form. The quadrics are
 // built by hand from planes and a linear field, so that E(x, s) = sum (n.x + e)^2 + w (s - g.x -
-// d)^2 is known in closed form. And setup's plane weight, which grows with the data's steepness.
+// d)^2 is known in closed form. And setup's plane weights, a triangle's and a boundary edge's,
+// which grow with the data's steepness.
 #include "error_quadric.h"
 #include "parallel.h"
 #include "working_mesh.h"
@@ -215,9 +216,10 @@ double error_of(const ErrorQuadrics& q, uint32_t v, const Vec3& x, double s) {
     return e;
 }
 
-// One right triangle in the plane z = 0 carrying a field f. The cost of stepping a corner off
-// the plane by delta, its datum held: the plane's weight x area x delta^2.
-double step_off_cost(const std::vector<float>& f, double geometry, double data) {
+// One right triangle in the plane z = 0 carrying a field f. The cost of stepping its corner at
+// the origin by delta along the unit vector `step`, its datum held: off the plane (z), the
+// plane's weight x area x delta^2.
+double step_cost(const std::vector<float>& f, double geometry, double data, const Vec3& step) {
     Surface s;
     s.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
     s.triangles = {0, 1, 2};
@@ -231,8 +233,11 @@ double step_off_cost(const std::vector<float>& f, double geometry, double data) 
     q.setup(mesh, gradient, geometry, data, s.vertex_count(), parallel);
     const Vec3 corner = scale(sub({0, 0, 0}, q.centre), q.inv_diagonal);
     const double datum = q.components > 0 ? (f[0] - q.low[0]) * q.inv_range[0] : 0, delta = 0.01;
-    return error_of(q, 0, {corner[0], corner[1], corner[2] + delta}, datum) -
-           error_of(q, 0, corner, datum);
+    return error_of(q, 0, add(corner, scale(step, delta)), datum) - error_of(q, 0, corner, datum);
+}
+
+double step_off_cost(const std::vector<float>& f, double geometry, double data) {
+    return step_cost(f, geometry, data, {0, 0, 1});
 }
 
 // Where the data is steep, a point off the surface misplaces the data a reader sees: the plane
@@ -252,6 +257,21 @@ TEST(ErrorQuadrics, AStepOffTheSurfaceCostsMoreWhereTheDataIsSteep) {
     EXPECT_GT(step_off_cost(ramp, 0.2, 1.0), step_off_cost({0.5f, 0.5f, 0.5f}, 0.2, 1.0));
     // With no data term (alpha = 1) the geometry weighs what it says, steep data or not.
     EXPECT_NEAR(step_off_cost(ramp, 1.0, 0.0), 1.0 * area * delta2, 1e-12);
+}
+
+// The same for a boundary that moves in: the input beyond it is read at the boundary. The corner
+// at the origin steps across the boundary edge along x (length 1/sqrt 2 in diagonals), in the
+// triangle's plane: only that edge's boundary plane sees it, weighing what the triangle's plane
+// weighs per unit area, times the edge's squared length. The ramp f = x does not change along y,
+// so the data term itself does not see the step.
+TEST(ErrorQuadrics, ABoundaryThatMovesInCostsMoreWhereTheDataIsSteep) {
+    const double length2 = 0.5, delta2 = 1e-4, steepness = 2;
+    const std::vector<float> ramp = {0, 1, 0}, flat = {0.5f, 0.5f, 0.5f};
+    const Vec3 in{0, 1, 0};
+    EXPECT_NEAR(step_cost(ramp, 0.2, 1.0, in),
+                (0.2 + ErrorQuadrics::kShiftWeight * steepness) * length2 * delta2, 1e-12);
+    EXPECT_NEAR(step_cost(flat, 0.2, 1.0, in), 0.2 * length2 * delta2, 1e-12);
+    EXPECT_NEAR(step_cost(ramp, 1.0, 0.0, in), 1.0 * length2 * delta2, 1e-12);
 }
 
 } // namespace

@@ -20,7 +20,7 @@ namespace ddsimp {
 
 // Bumped whenever a change can alter the output bytes for the same input and options
 // (the server keys its result cache on it).
-inline constexpr int algorithm_version = 36;
+inline constexpr int algorithm_version = 37;
 
 // ---------------------------------------------------------------------------------------------
 // Surface
@@ -215,9 +215,11 @@ struct Options {
     // slivers, which would pin most vertices. Turn it on for CAD-like parts (e.g. 45).
     double feature_angle = 180.0;
     // A boundary or feature vertex is removed only where its line continues within this angle
-    // (degrees) of straight. Once nothing else is removable before the target, the angle doubles,
-    // at most to 80 degrees, as often as that makes more removable (0 never widens; a right angle
-    // always stays).
+    // (degrees) of straight, or where it lies within half the input's mean edge length of the
+    // segment between its two line neighbours (a zigzag of the sampling). Once nothing else is
+    // removable before the target, the angle doubles, at most to 80 degrees, as often as that
+    // makes more removable. 0 keeps every vertex where its line turns (no zigzag, never
+    // widens); a right angle stays unless it is such a zigzag.
     double line_tolerance = 20.0;
     // Largest allowed turn (degrees) of any remaining triangle's normal in one operation; larger
     // turns are refused as folds. (Independently, no operation may leave a triangle facing away
