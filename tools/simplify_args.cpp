@@ -71,8 +71,9 @@ void add_simplify_options(CLI::App& command, SimplifyArgs& args) {
         ->capture_default_str();
     command
         .add_option("--line-tolerance", args.line_tolerance,
-                    "Boundary/feature vertices go only where the line turns less (degrees); "
-                    "doubled up to 80 once nothing else is removable (0: never)")
+                    "Boundary/feature vertices go only where the line turns less (degrees) "
+                    "or zigzags within half an edge; doubled up to 80 once nothing else is "
+                    "removable (0: every turning vertex stays)")
         ->check(CLI::Range(0.0, 180.0))
         ->capture_default_str();
     command
