@@ -216,7 +216,8 @@ struct Options {
     double feature_angle = 180.0;
     // A boundary or feature vertex is removed only where its line continues within this angle
     // (degrees) of straight, or where it lies within half the input's mean edge length of the
-    // segment between its two line neighbours (a zigzag of the sampling). Once nothing else is
+    // segment between its two line neighbours and the input's line turned the other way at one
+    // of them (a zigzag of the sampling; a polygon's corners stay). Once nothing else is
     // removable before the target, the angle doubles, at most to 80 degrees, as often as that
     // makes more removable. 0 keeps every vertex where its line turns (no zigzag, never
     // widens); a right angle stays unless it is such a zigzag.
