@@ -188,11 +188,8 @@ void WorkingMesh::build(const Surface& s, size_t capacity, const Limits& lim,
         parallel.for_each(vertex_count, [&](size_t v) {
             if (kind[v] == VertexKind::Dead || kind[v] == VertexKind::Complex) return;
             uint32_t ends[2];
-            int lines = 0;
-            for_each_edge(uint32_t(v), [&](uint32_t h, uint32_t other, bool outgoing) {
-                if ((!outgoing || line[h]) && lines++ < 2) ends[lines - 1] = other;
-            });
-            if (lines == 2) zigzag[v] = turns_back(uint32_t(v), ends[0], ends[1]);
+            if (line_neighbours(uint32_t(v), ends) == 2)
+                zigzag[v] = turns_back(uint32_t(v), ends[0], ends[1]);
         });
     }
     parallel.for_each(vertex_count, [&](size_t v) { classify(uint32_t(v)); });
@@ -281,15 +278,9 @@ bool WorkingMesh::turns_back(uint32_t v, uint32_t a, uint32_t b) const {
     const double here = turn(point(a), p, point(b));
     // The line's next vertex beyond `end` (away from v), if end is on one line only.
     auto beyond = [&](uint32_t end) {
-        uint32_t next = kNone;
-        int lines = 0;
-        for_each_edge(end, [&](uint32_t h, uint32_t other, bool outgoing) {
-            if (!outgoing || line[h]) {
-                ++lines;
-                if (other != v) next = other;
-            }
-        });
-        return lines == 2 ? next : kNone;
+        uint32_t ends[2];
+        if (line_neighbours(end, ends) != 2) return kNone;
+        return ends[1] != v ? ends[1] : ends[0] != v ? ends[0] : kNone; // both v: a sliver
     };
     const uint32_t before = beyond(a), after = beyond(b);
     return (before != kNone && turn(point(before), point(a), p) * here < 0) ||

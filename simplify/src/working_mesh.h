@@ -274,6 +274,18 @@ struct WorkingMesh {
         const double full = is_boundary_vertex(v) ? std::numbers::pi : 2 * std::numbers::pi;
         return std::abs(full - angles) / std::numbers::pi;
     }
+    // Whether the edge that for_each_edge gives as (h, outgoing) is on a line: a line edge, or
+    // the edge closing a boundary fan (a boundary edge).
+    bool on_line(uint32_t h, bool outgoing) const { return !outgoing || line[h]; }
+    // v's neighbours along its line edges: the first two into ends; returns the number of line
+    // edges at v.
+    int line_neighbours(uint32_t v, uint32_t ends[2]) const {
+        int lines = 0;
+        for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
+            if (on_line(h, outgoing) && lines++ < 2) ends[lines - 1] = other;
+        });
+        return lines;
+    }
     // Whether line vertex v, between its line neighbours a and b, turns the other way (about its
     // reference normal) from a or b, each seen along the line: the line may zigzag there. A
     // polygon's corners all turn one way. Reads the line beyond a and b: for the input only.
@@ -295,7 +307,7 @@ template <class F> double WorkingMesh::classify(uint32_t v, F&& visit) {
     for_each_edge(v, [&](uint32_t h, uint32_t other, bool outgoing) {
         visit(other, !outgoing);
         if (outgoing && track_angles) angles += angle[h];
-        if (!outgoing || line[h]) { // the edge closing a boundary fan is a boundary edge
+        if (on_line(h, outgoing)) {
             if (lines < 2) ends[lines] = other;
             ++lines;
         }
